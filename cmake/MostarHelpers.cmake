@@ -1,0 +1,71 @@
+# Shared compile settings, applied per target (no global flags or include directories).
+
+set(MOSTAR_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
+    -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough)
+if(MOSTAR_WERROR)
+  list(APPEND MOSTAR_WARNINGS -Werror)
+endif()
+
+set(MOSTAR_SANITIZER_FLAGS "")
+if(MOSTAR_SANITIZE STREQUAL "address")
+  set(MOSTAR_SANITIZER_FLAGS -fsanitize=address,undefined -fno-omit-frame-pointer
+      -fno-sanitize-recover=undefined)
+elseif(MOSTAR_SANITIZE STREQUAL "thread")
+  set(MOSTAR_SANITIZER_FLAGS -fsanitize=thread -fno-omit-frame-pointer)
+elseif(NOT MOSTAR_SANITIZE STREQUAL "")
+  message(FATAL_ERROR "MOSTAR_SANITIZE must be '', 'address' or 'thread'")
+endif()
+
+# mostar_target_settings(<target>): warnings and sanitizers for the project's own code.
+function(mostar_target_settings target)
+  target_compile_options(${target} PRIVATE ${MOSTAR_WARNINGS} ${MOSTAR_SANITIZER_FLAGS})
+  target_link_options(${target} PRIVATE ${MOSTAR_SANITIZER_FLAGS})
+endfunction()
+
+# mostar_library(<name> SOURCES ... DEPS ...): one static library per concern folder.
+# Headers are included as "folder/file.h" from the repository root.
+function(mostar_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+  mostar_target_settings(${name})
+endfunction()
+
+# mostar_test(<name> SOURCES ... DEPS ... [LABELS ...]): a GoogleTest executable registered
+# with CTest. Each test process gets its own DDS domain id (see common/dds/domain.h).
+function(mostar_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
+  mostar_target_settings(${name})
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+    PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT 300
+    ENVIRONMENT "MOSTAR_SOURCE_DIR=${PROJECT_SOURCE_DIR};MOSTAR_BINARY_DIR=${PROJECT_BINARY_DIR}")
+endfunction()
+
+# mostar_benchmark(<name> SOURCES ... DEPS ...): a Google Benchmark executable (not a test).
+function(mostar_benchmark name)
+  if(NOT MOSTAR_BUILD_BENCHMARKS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark benchmark::benchmark_main)
+  mostar_target_settings(${name})
+endfunction()
+
+# mostar_proto_library(<name> PROTOS a.proto ... [DEPS ...]): a library of generated protobuf
+# code. Protos import each other by repository path ("common/config/options.proto"), and
+# consumers include "<folder>/<file>.pb.h".
+function(mostar_proto_library name)
+  cmake_parse_arguments(ARG "" "" "PROTOS;DEPS" ${ARGN})
+  add_library(${name} STATIC)
+  set(out ${PROJECT_BINARY_DIR}/gen/proto)
+  file(MAKE_DIRECTORY ${out})
+  protobuf_generate(TARGET ${name} LANGUAGE cpp PROTOS ${ARG_PROTOS}
+    IMPORT_DIRS ${PROJECT_SOURCE_DIR} PROTOC_OUT_DIR ${out})
+  target_include_directories(${name} SYSTEM PUBLIC ${out})
+  target_link_libraries(${name} PUBLIC protobuf::libprotobuf ${ARG_DEPS})
+  target_compile_options(${name} PRIVATE -w)
+endfunction()

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package that mostar's build, tests and demo need.
+# Idempotent: prints nothing and returns at once when everything is already there.
+# Must run as root (or with sudo available).
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake pkg-config git clang-format
+  # DDS: runtime, generator (brings a JRE), tools
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  # sensors, maths, vision, config
+  libopencv-dev libeigen3-dev libserial-dev libdc1394-dev
+  libprotobuf-dev protobuf-compiler libcli11-dev
+  # client UI
+  libglfw3-dev libimgui-dev libgl-dev libgl1-mesa-dri
+  # tests, benchmarks, headless display
+  libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
+  # fuzzing (libFuzzer)
+  clang libclang-rt-14-dev
+  # tools used by the tests (network namespaces, shaping)
+  iproute2 procps
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${#missing[@]} package(s): ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"
