@@ -60,11 +60,22 @@ endfunction()
 # consumers include "<folder>/<file>.pb.h".
 function(mostar_proto_library name)
   cmake_parse_arguments(ARG "" "" "PROTOS;DEPS" ${ARGN})
-  add_library(${name} STATIC)
   set(out ${PROJECT_BINARY_DIR}/gen/proto)
-  file(MAKE_DIRECTORY ${out})
-  protobuf_generate(TARGET ${name} LANGUAGE cpp PROTOS ${ARG_PROTOS}
-    IMPORT_DIRS ${PROJECT_SOURCE_DIR} PROTOC_OUT_DIR ${out})
+  set(sources "")
+  foreach(proto ${ARG_PROTOS})
+    get_filename_component(abs ${proto} ABSOLUTE)
+    file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${abs})
+    string(REGEX REPLACE "\\.proto$" "" stem ${rel})
+    add_custom_command(
+      OUTPUT ${out}/${stem}.pb.cc ${out}/${stem}.pb.h
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${out}
+      COMMAND protobuf::protoc --cpp_out=${out} -I ${PROJECT_SOURCE_DIR} ${abs}
+      DEPENDS ${abs} protobuf::protoc
+      COMMENT "protoc ${rel}"
+      VERBATIM)
+    list(APPEND sources ${out}/${stem}.pb.cc)
+  endforeach()
+  add_library(${name} STATIC ${sources})
   target_include_directories(${name} SYSTEM PUBLIC ${out})
   target_link_libraries(${name} PUBLIC protobuf::libprotobuf ${ARG_DEPS})
   target_compile_options(${name} PRIVATE -w)
