@@ -1,0 +1,256 @@
+#include "common/dds/conversions.h"
+
+#include <cmath>
+
+namespace mostar::dds {
+
+wire::Time ToIdl(Time t) {
+  const SecNanosec s = ToSecNanosec(t);
+  wire::Time out;
+  out.sec(s.sec);
+  out.nanosec(s.nanosec);
+  return out;
+}
+
+Time FromIdl(const wire::Time& t) { return FromSecNanosec(t.sec(), t.nanosec()); }
+
+wire::LaserScan ToIdl(const LaserScan& scan) {
+  wire::LaserScan out;
+  out.header().stamp(ToIdl(scan.stamp));
+  out.header().frame_id(kLaserFrame);
+  out.angle_min(scan.angle_min_rad);
+  out.angle_max(scan.angle_max_rad());
+  out.angle_increment(scan.angle_increment_rad);
+  out.time_increment(scan.time_increment_s);
+  out.scan_time(scan.scan_time_s);
+  out.range_min(scan.range_min_m);
+  out.range_max(scan.range_max_m);
+  out.ranges(scan.ranges_m);
+  out.intensities(scan.intensities);
+  return out;
+}
+
+LaserScan FromIdl(const wire::LaserScan& scan) {
+  LaserScan out;
+  out.stamp = FromIdl(scan.header().stamp());
+  out.angle_min_rad = scan.angle_min();
+  out.angle_increment_rad = scan.angle_increment();
+  out.time_increment_s = scan.time_increment();
+  out.scan_time_s = scan.scan_time();
+  out.range_min_m = scan.range_min();
+  out.range_max_m = scan.range_max();
+  out.ranges_m = scan.ranges();
+  out.intensities = scan.intensities();
+  return out;
+}
+
+wire::CompressedImage ToIdl(const CompressedImage& image) {
+  wire::CompressedImage out;
+  out.header().stamp(ToIdl(image.stamp));
+  out.header().frame_id(image.frame_id);
+  out.format(image.format);
+  out.data(image.data);
+  return out;
+}
+
+CompressedImage FromIdl(const wire::CompressedImage& image) {
+  CompressedImage out;
+  out.stamp = FromIdl(image.header().stamp());
+  out.frame_id = image.header().frame_id();
+  out.format = image.format();
+  out.data = image.data();
+  return out;
+}
+
+namespace {
+constexpr double kUnknownVariance = 1e6;
+}
+
+wire::Odometry ToIdl(const Odometry& odom) {
+  wire::Odometry out;
+  out.header().stamp(ToIdl(odom.stamp));
+  out.header().frame_id(kOdomFrame);
+  out.child_frame_id(kBaseFrame);
+  auto& pose = out.pose().pose();
+  pose.position().x(odom.pose.x_m);
+  pose.position().y(odom.pose.y_m);
+  pose.position().z(0);
+  pose.orientation().x(0);
+  pose.orientation().y(0);
+  pose.orientation().z(std::sin(odom.pose.theta_rad / 2));
+  pose.orientation().w(std::cos(odom.pose.theta_rad / 2));
+  auto& cov = out.pose().covariance();
+  cov.fill(0);
+  cov[0] = odom.pose_variance[0];
+  cov[7] = odom.pose_variance[1];
+  cov[14] = kUnknownVariance;
+  cov[21] = kUnknownVariance;
+  cov[28] = kUnknownVariance;
+  cov[35] = odom.pose_variance[2];
+  out.twist().twist().linear().x(odom.linear_mps);
+  out.twist().twist().angular().z(odom.angular_radps);
+  return out;
+}
+
+Odometry FromIdl(const wire::Odometry& odom) {
+  Odometry out;
+  out.stamp = FromIdl(odom.header().stamp());
+  const auto& pose = odom.pose().pose();
+  out.pose.x_m = pose.position().x();
+  out.pose.y_m = pose.position().y();
+  out.pose.theta_rad = 2 * std::atan2(pose.orientation().z(), pose.orientation().w());
+  if (out.pose.theta_rad > M_PI) out.pose.theta_rad -= 2 * M_PI;
+  if (out.pose.theta_rad <= -M_PI) out.pose.theta_rad += 2 * M_PI;
+  const auto& cov = odom.pose().covariance();
+  out.pose_variance = {cov[0], cov[7], cov[35]};
+  out.linear_mps = odom.twist().twist().linear().x();
+  out.angular_radps = odom.twist().twist().angular().z();
+  return out;
+}
+
+wire::VelocityCommand ToIdl(const VelocityCommand& cmd) {
+  wire::VelocityCommand out;
+  out.stamp(ToIdl(cmd.stamp));
+  out.sequence_number(cmd.sequence);
+  out.sender_id(cmd.sender_id);
+  out.linear_mps(cmd.linear_mps);
+  out.angular_radps(cmd.angular_radps);
+  out.enable(cmd.enable);
+  return out;
+}
+
+VelocityCommand FromIdl(const wire::VelocityCommand& cmd) {
+  VelocityCommand out;
+  out.stamp = FromIdl(cmd.stamp());
+  out.sequence = cmd.sequence_number();
+  out.sender_id = cmd.sender_id();
+  out.linear_mps = cmd.linear_mps();
+  out.angular_radps = cmd.angular_radps();
+  out.enable = cmd.enable();
+  return out;
+}
+
+wire::EmergencyStop ToIdl(const EmergencyStop& stop) {
+  wire::EmergencyStop out;
+  out.stamp(ToIdl(stop.stamp));
+  out.sender_id(stop.sender_id);
+  out.engage(stop.engage);
+  return out;
+}
+
+EmergencyStop FromIdl(const wire::EmergencyStop& stop) {
+  EmergencyStop out;
+  out.stamp = FromIdl(stop.stamp());
+  out.sender_id = stop.sender_id();
+  out.engage = stop.engage();
+  return out;
+}
+
+wire::ControlRequest ToIdl(const ControlRequest& request) {
+  wire::ControlRequest out;
+  out.stamp(ToIdl(request.stamp));
+  out.sender_id(request.sender_id);
+  out.strength(request.strength);
+  out.take(request.take);
+  return out;
+}
+
+ControlRequest FromIdl(const wire::ControlRequest& request) {
+  ControlRequest out;
+  out.stamp = FromIdl(request.stamp());
+  out.sender_id = request.sender_id();
+  out.strength = request.strength();
+  out.take = request.take();
+  return out;
+}
+
+wire::ControlLease ToIdl(const ControlLease& lease) {
+  wire::ControlLease out;
+  out.stamp(ToIdl(lease.stamp));
+  out.holder_id(lease.holder_id);
+  out.holder_strength(lease.holder_strength);
+  out.since(ToIdl(lease.since));
+  out.lease_sequence(lease.lease_sequence);
+  return out;
+}
+
+ControlLease FromIdl(const wire::ControlLease& lease) {
+  ControlLease out;
+  out.stamp = FromIdl(lease.stamp());
+  out.holder_id = lease.holder_id();
+  out.holder_strength = lease.holder_strength();
+  out.since = FromIdl(lease.since());
+  out.lease_sequence = lease.lease_sequence();
+  return out;
+}
+
+wire::RobotHealth ToIdl(const RobotHealth& health) {
+  wire::RobotHealth out;
+  out.stamp(ToIdl(health.stamp));
+  out.robot_id(health.robot_id);
+  for (const DeviceHealth& d : health.devices) {
+    mostar_msgs::msg::dds_::DeviceHealth_ w;
+    w.name(d.name);
+    w.state(static_cast<uint8_t>(d.state));
+    w.message(d.message);
+    w.rate_hz(d.rate_hz);
+    for (const auto& [name, value] : d.counters) {
+      mostar_msgs::msg::dds_::Counter_ c;
+      c.name(name);
+      c.value(value);
+      w.counters().push_back(c);
+    }
+    out.devices().push_back(w);
+  }
+  out.lease_holder(health.lease_holder);
+  out.watchdog_state(static_cast<uint8_t>(health.watchdog_state));
+  out.last_command_age_s(health.last_command_age_s);
+  out.last_command_sequence(health.last_command_sequence);
+  out.estop_engaged(health.estop_engaged);
+  return out;
+}
+
+RobotHealth FromIdl(const wire::RobotHealth& health) {
+  RobotHealth out;
+  out.stamp = FromIdl(health.stamp());
+  out.robot_id = health.robot_id();
+  for (const auto& w : health.devices()) {
+    DeviceHealth d;
+    d.name = w.name();
+    d.state = w.state() <= 3 ? static_cast<DeviceState>(w.state()) : DeviceState::kError;
+    d.message = w.message();
+    d.rate_hz = w.rate_hz();
+    for (const auto& c : w.counters()) d.counters.emplace_back(c.name(), c.value());
+    out.devices.push_back(std::move(d));
+  }
+  out.lease_holder = health.lease_holder();
+  out.watchdog_state = health.watchdog_state() <= 4
+                           ? static_cast<WatchdogState>(health.watchdog_state())
+                           : WatchdogState::kEstop;
+  out.last_command_age_s = health.last_command_age_s();
+  out.last_command_sequence = health.last_command_sequence();
+  out.estop_engaged = health.estop_engaged();
+  return out;
+}
+
+wire::ClockProbe ToIdl(const ClockProbe& probe) {
+  wire::ClockProbe out;
+  out.sender_id(probe.sender_id);
+  out.sequence_number(probe.sequence);
+  out.t0(ToIdl(probe.t0));
+  out.t1(ToIdl(probe.t1));
+  out.t2(ToIdl(probe.t2));
+  return out;
+}
+
+ClockProbe FromIdl(const wire::ClockProbe& probe) {
+  ClockProbe out;
+  out.sender_id = probe.sender_id();
+  out.sequence = probe.sequence_number();
+  out.t0 = FromIdl(probe.t0());
+  out.t1 = FromIdl(probe.t1());
+  out.t2 = FromIdl(probe.t2());
+  return out;
+}
+
+}  // namespace mostar::dds

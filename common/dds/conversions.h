@@ -1,0 +1,67 @@
+// Conversions between mostar's plain types (common/types/) and the DDS wire types (idl/).
+// The only place where both meet. Each pair has a round-trip test.
+#pragma once
+
+#include "common/time/time.h"
+#include "common/types/commands.h"
+#include "common/types/health.h"
+#include "common/types/laser_scan.h"
+#include "common/types/odometry.h"
+#include "common/types/stereo_frame.h"
+#include "mostar_msgs.h"
+#include "ros2_msgs.h"
+
+namespace mostar::dds {
+
+namespace wire {
+using Time = builtin_interfaces::msg::dds_::Time_;
+using LaserScan = sensor_msgs::msg::dds_::LaserScan_;
+using CompressedImage = sensor_msgs::msg::dds_::CompressedImage_;
+using Odometry = nav_msgs::msg::dds_::Odometry_;
+using VelocityCommand = mostar_msgs::msg::dds_::VelocityCommand_;
+using EmergencyStop = mostar_msgs::msg::dds_::EmergencyStop_;
+using ControlRequest = mostar_msgs::msg::dds_::ControlRequest_;
+using ControlLease = mostar_msgs::msg::dds_::ControlLease_;
+using RobotHealth = mostar_msgs::msg::dds_::RobotHealth_;
+using ClockProbe = mostar_msgs::msg::dds_::ClockProbe_;
+}  // namespace wire
+
+// Frame ids used in headers.
+inline constexpr const char* kLaserFrame = "laser";
+inline constexpr const char* kOdomFrame = "odom";
+inline constexpr const char* kBaseFrame = "base_link";
+
+wire::Time ToIdl(Time t);
+Time FromIdl(const wire::Time& t);
+
+// The scan sequence number is not part of the ROS layout; FromIdl leaves it 0.
+wire::LaserScan ToIdl(const LaserScan& scan);
+LaserScan FromIdl(const wire::LaserScan& scan);
+
+wire::CompressedImage ToIdl(const CompressedImage& image);
+CompressedImage FromIdl(const wire::CompressedImage& image);
+
+// Planar odometry as nav_msgs/Odometry: yaw as a quaternion about z; pose covariance diagonal
+// (x, y, yaw), unknown z/roll/pitch marked with a large variance.
+wire::Odometry ToIdl(const Odometry& odom);
+Odometry FromIdl(const wire::Odometry& odom);
+
+wire::VelocityCommand ToIdl(const VelocityCommand& cmd);
+VelocityCommand FromIdl(const wire::VelocityCommand& cmd);
+
+wire::EmergencyStop ToIdl(const EmergencyStop& stop);
+EmergencyStop FromIdl(const wire::EmergencyStop& stop);
+
+wire::ControlRequest ToIdl(const ControlRequest& request);
+ControlRequest FromIdl(const wire::ControlRequest& request);
+
+wire::ControlLease ToIdl(const ControlLease& lease);
+ControlLease FromIdl(const wire::ControlLease& lease);
+
+wire::RobotHealth ToIdl(const RobotHealth& health);
+RobotHealth FromIdl(const wire::RobotHealth& health);
+
+wire::ClockProbe ToIdl(const ClockProbe& probe);
+ClockProbe FromIdl(const wire::ClockProbe& probe);
+
+}  // namespace mostar::dds

@@ -1,0 +1,199 @@
+// Round trips: plain type -> IDL -> CDR bytes -> IDL -> plain type.
+#include "common/dds/conversions.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "mostar_msgsPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
+
+namespace mostar::dds {
+namespace {
+
+// Serializes with the generated type support, as DDS does on the wire, and back.
+template <class PubSubType>
+typename PubSubType::type ThroughCdr(const typename PubSubType::type& in) {
+  PubSubType type;
+  auto copy = in;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(
+      static_cast<uint32_t>(type.getSerializedSizeProvider(&copy)()) + 64);
+  EXPECT_TRUE(type.serialize(&copy, &payload));
+  typename PubSubType::type out;
+  EXPECT_TRUE(type.deserialize(&payload, &out));
+  return out;
+}
+
+const Time kStamp = FromUnixNanos(1'763'769'599'123'456'789);
+
+TEST(ConversionsTest, LaserScanRoundTrip) {
+  LaserScan scan;
+  scan.stamp = kStamp;
+  scan.angle_min_rad = -M_PI / 2;
+  scan.angle_increment_rad = M_PI / 180;
+  scan.time_increment_s = 1.0f / 75 / 480;
+  scan.scan_time_s = 1.0f / 75;
+  scan.range_min_m = 0.01f;
+  scan.range_max_m = 8.183f;
+  for (int i = 0; i < 181; ++i) scan.ranges_m.push_back(0.5f + 0.01f * i);
+  scan.ranges_m[7] = std::numeric_limits<float>::quiet_NaN();
+  const LaserScan back =
+      FromIdl(ThroughCdr<sensor_msgs::msg::dds_::LaserScan_PubSubType>(ToIdl(scan)));
+  EXPECT_EQ(back.stamp, scan.stamp);
+  EXPECT_FLOAT_EQ(back.angle_min_rad, scan.angle_min_rad);
+  EXPECT_FLOAT_EQ(back.angle_increment_rad, scan.angle_increment_rad);
+  EXPECT_FLOAT_EQ(back.time_increment_s, scan.time_increment_s);
+  EXPECT_FLOAT_EQ(back.scan_time_s, scan.scan_time_s);
+  EXPECT_FLOAT_EQ(back.range_max_m, scan.range_max_m);
+  ASSERT_EQ(back.ranges_m.size(), 181u);
+  EXPECT_TRUE(std::isnan(back.ranges_m[7]));
+  EXPECT_FLOAT_EQ(back.ranges_m[180], scan.ranges_m[180]);
+  EXPECT_FLOAT_EQ(back.angle_max_rad(), scan.angle_max_rad());
+  EXPECT_EQ(ToIdl(scan).header().frame_id(), "laser");
+}
+
+TEST(ConversionsTest, CompressedImageRoundTrip) {
+  CompressedImage image;
+  image.stamp = kStamp;
+  image.frame_id = "camera_right";
+  image.format = "jpeg";
+  image.data = {0xFF, 0xD8, 0x00, 0x11, 0xFF, 0xD9};
+  const CompressedImage back =
+      FromIdl(ThroughCdr<sensor_msgs::msg::dds_::CompressedImage_PubSubType>(ToIdl(image)));
+  EXPECT_EQ(back.stamp, image.stamp);
+  EXPECT_EQ(back.frame_id, image.frame_id);
+  EXPECT_EQ(back.format, image.format);
+  EXPECT_EQ(back.data, image.data);
+}
+
+TEST(ConversionsTest, OdometryRoundTrip) {
+  Odometry odom;
+  odom.stamp = kStamp;
+  odom.pose = {1.5, -2.25, 3.0};
+  odom.linear_mps = 0.4;
+  odom.angular_radps = -0.3;
+  odom.pose_variance = {0.01, 0.02, 0.003};
+  const Odometry back =
+      FromIdl(ThroughCdr<nav_msgs::msg::dds_::Odometry_PubSubType>(ToIdl(odom)));
+  EXPECT_EQ(back.stamp, odom.stamp);
+  EXPECT_DOUBLE_EQ(back.pose.x_m, 1.5);
+  EXPECT_DOUBLE_EQ(back.pose.y_m, -2.25);
+  EXPECT_NEAR(back.pose.theta_rad, 3.0, 1e-12);
+  EXPECT_DOUBLE_EQ(back.linear_mps, 0.4);
+  EXPECT_DOUBLE_EQ(back.angular_radps, -0.3);
+  EXPECT_DOUBLE_EQ(back.pose_variance[2], 0.003);
+}
+
+TEST(ConversionsTest, OdometryYawWrapsIntoMinusPiPi) {
+  Odometry odom;
+  odom.pose.theta_rad = -3.1;
+  EXPECT_NEAR(FromIdl(ToIdl(odom)).pose.theta_rad, -3.1, 1e-12);
+}
+
+TEST(ConversionsTest, VelocityCommandRoundTrip) {
+  VelocityCommand cmd{kStamp, 42, "pilot-a", 0.35, -0.7, true};
+  const VelocityCommand back = FromIdl(
+      ThroughCdr<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>(ToIdl(cmd)));
+  EXPECT_EQ(back.stamp, cmd.stamp);
+  EXPECT_EQ(back.sequence, 42u);
+  EXPECT_EQ(back.sender_id, "pilot-a");
+  EXPECT_DOUBLE_EQ(back.linear_mps, 0.35);
+  EXPECT_DOUBLE_EQ(back.angular_radps, -0.7);
+  EXPECT_TRUE(back.enable);
+}
+
+TEST(ConversionsTest, EmergencyStopRoundTrip) {
+  EmergencyStop stop{kStamp, "observer-1", true};
+  const EmergencyStop back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>(ToIdl(stop)));
+  EXPECT_EQ(back.stamp, kStamp);
+  EXPECT_EQ(back.sender_id, "observer-1");
+  EXPECT_TRUE(back.engage);
+}
+
+TEST(ConversionsTest, ControlRequestAndLeaseRoundTrip) {
+  ControlRequest req{kStamp, "pilot-b", 20, false};
+  const ControlRequest req_back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::ControlRequest_PubSubType>(ToIdl(req)));
+  EXPECT_EQ(req_back.sender_id, "pilot-b");
+  EXPECT_EQ(req_back.strength, 20);
+  EXPECT_FALSE(req_back.take);
+  EXPECT_EQ(req_back.stamp, kStamp);
+
+  ControlLease lease{kStamp, "pilot-b", 20, kStamp - std::chrono::seconds(3), 7};
+  const ControlLease lease_back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::ControlLease_PubSubType>(ToIdl(lease)));
+  EXPECT_EQ(lease_back.holder_id, "pilot-b");
+  EXPECT_EQ(lease_back.holder_strength, 20);
+  EXPECT_EQ(lease_back.since, lease.since);
+  EXPECT_EQ(lease_back.lease_sequence, 7u);
+}
+
+TEST(ConversionsTest, RobotHealthRoundTrip) {
+  RobotHealth health;
+  health.stamp = kStamp;
+  health.robot_id = "morduc";
+  DeviceHealth laser;
+  laser.name = "laser";
+  laser.state = DeviceState::kWarn;
+  laser.message = "pollution";
+  laser.rate_hz = 9.8f;
+  laser.counters = {{"crc_errors", 3}, {"resyncs", 1}};
+  health.devices.push_back(laser);
+  health.lease_holder = "pilot-a";
+  health.watchdog_state = WatchdogState::kWaitRearm;
+  health.last_command_age_s = 0.12f;
+  health.last_command_sequence = 99;
+  health.estop_engaged = true;
+  const RobotHealth back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::RobotHealth_PubSubType>(ToIdl(health)));
+  EXPECT_EQ(back.stamp, kStamp);
+  EXPECT_EQ(back.robot_id, "morduc");
+  ASSERT_EQ(back.devices.size(), 1u);
+  EXPECT_EQ(back.devices[0].name, "laser");
+  EXPECT_EQ(back.devices[0].state, DeviceState::kWarn);
+  EXPECT_EQ(back.devices[0].message, "pollution");
+  EXPECT_FLOAT_EQ(back.devices[0].rate_hz, 9.8f);
+  EXPECT_EQ(back.devices[0].counters, laser.counters);
+  EXPECT_EQ(back.lease_holder, "pilot-a");
+  EXPECT_EQ(back.watchdog_state, WatchdogState::kWaitRearm);
+  EXPECT_FLOAT_EQ(back.last_command_age_s, 0.12f);
+  EXPECT_EQ(back.last_command_sequence, 99u);
+  EXPECT_TRUE(back.estop_engaged);
+}
+
+TEST(ConversionsTest, UnknownEnumValuesMapToSafeStates) {
+  wire::RobotHealth w;
+  w.watchdog_state(200);
+  mostar_msgs::msg::dds_::DeviceHealth_ d;
+  d.state(77);
+  w.devices().push_back(d);
+  const RobotHealth back = FromIdl(w);
+  EXPECT_EQ(back.watchdog_state, WatchdogState::kEstop);
+  EXPECT_EQ(back.devices[0].state, DeviceState::kError);
+}
+
+TEST(ConversionsTest, ClockProbeRoundTrip) {
+  ClockProbe probe{"pilot-a", 5, kStamp, kStamp + std::chrono::milliseconds(30),
+                   kStamp + std::chrono::milliseconds(31)};
+  const ClockProbe back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::ClockProbe_PubSubType>(ToIdl(probe)));
+  EXPECT_EQ(back.sender_id, "pilot-a");
+  EXPECT_EQ(back.sequence, 5u);
+  EXPECT_EQ(back.t0, probe.t0);
+  EXPECT_EQ(back.t1, probe.t1);
+  EXPECT_EQ(back.t2, probe.t2);
+}
+
+TEST(ConversionsTest, RosTypeNamesAreExact) {
+  EXPECT_EQ(std::string(sensor_msgs::msg::dds_::LaserScan_PubSubType().getName()),
+            "sensor_msgs::msg::dds_::LaserScan_");
+  EXPECT_EQ(std::string(sensor_msgs::msg::dds_::CompressedImage_PubSubType().getName()),
+            "sensor_msgs::msg::dds_::CompressedImage_");
+  EXPECT_EQ(std::string(nav_msgs::msg::dds_::Odometry_PubSubType().getName()),
+            "nav_msgs::msg::dds_::Odometry_");
+}
+
+}  // namespace
+}  // namespace mostar::dds

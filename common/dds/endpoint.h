@@ -1,0 +1,179 @@
+// Typed DDS writer and reader over a mostar::dds::Participant.
+//
+//   Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType> w(participant, topics::kScan,
+//                                                           Stream::kSensor);
+//   Reader<...> r(participant, topics::kScan, Stream::kSensor,
+//                 [](const LaserScan_& scan) { ... });   // called on a DDS thread
+//   std::optional<LaserScan_> latest = r.Latest();         // or latest-value access
+//
+// `PubSubType` is a fastddsgen-generated `XxxPubSubType`; its `type` is the data class.
+// Construction failures are reported by ok()/error(), never by exceptions. Destruction deletes
+// the DDS entity; callbacks have stopped when the destructor returns.
+#pragma once
+
+#include <atomic>
+#include <fastdds/dds/core/status/LivelinessChangedStatus.hpp>
+#include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "common/dds/participant.h"
+#include "common/dds/qos.h"
+
+namespace mostar::dds {
+
+// Counts matched remote endpoints; shared by writers and readers.
+class MatchCounter {
+ public:
+  int matched() const { return matched_.load(); }
+
+ protected:
+  std::atomic<int> matched_{0};
+};
+
+template <class PubSubType>
+class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCounter {
+ public:
+  using Data = typename PubSubType::type;
+
+  Writer(Participant& participant, const std::string& topic_name, Stream stream,
+         int32_t ownership_strength = 0)
+      : participant_(participant) {
+    auto* topic = participant.GetTopic(topic_name, eprosima::fastdds::dds::TypeSupport(
+                                                       new PubSubType()),
+                                       &error_);
+    if (topic == nullptr) return;
+    writer_ = participant.publisher()->create_datawriter(
+        topic, WriterQos(stream, ownership_strength), this,
+        eprosima::fastdds::dds::StatusMask::publication_matched());
+    if (writer_ == nullptr) error_ = "cannot create a DDS writer on " + topic_name;
+  }
+  ~Writer() override {
+    if (writer_ != nullptr) participant_.publisher()->delete_datawriter(writer_);
+  }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  bool ok() const { return writer_ != nullptr; }
+  const std::string& error() const { return error_; }
+
+  // Publishes one sample; false when DDS refused it (counted in failures()).
+  bool Write(const Data& data) {
+    if (writer_ == nullptr) return false;
+    Data copy = data;  // Fast DDS 2.9 takes a non-const pointer
+    const bool ok = writer_->write(&copy);
+    if (ok) {
+      ++written_;
+    } else {
+      ++failures_;
+    }
+    return ok;
+  }
+  // True when every matched reliable reader acknowledged all samples (ack-clock pattern).
+  bool AllAcknowledged() {
+    return writer_ != nullptr && writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
+                                     0, 0)) == ReturnCode_t::RETCODE_OK;
+  }
+  uint64_t written() const { return written_.load(); }
+  uint64_t failures() const { return failures_.load(); }
+  eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
+
+  void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
+                              const eprosima::fastdds::dds::PublicationMatchedStatus& info) override {
+    matched_ = info.current_count;
+  }
+
+ private:
+  Participant& participant_;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+  std::string error_;
+  std::atomic<uint64_t> written_{0};
+  std::atomic<uint64_t> failures_{0};
+};
+
+template <class PubSubType>
+class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCounter {
+ public:
+  using Data = typename PubSubType::type;
+  using Callback = std::function<void(const Data&)>;
+  // Called with the number of writers still alive when liveliness changes (command stream).
+  using LivelinessCallback = std::function<void(int alive_count)>;
+
+  Reader(Participant& participant, const std::string& topic_name, Stream stream,
+         Callback callback = {}, LivelinessCallback on_liveliness = {})
+      : participant_(participant),
+        callback_(std::move(callback)),
+        on_liveliness_(std::move(on_liveliness)) {
+    auto* topic = participant.GetTopic(topic_name, eprosima::fastdds::dds::TypeSupport(
+                                                       new PubSubType()),
+                                       &error_);
+    if (topic == nullptr) return;
+    using eprosima::fastdds::dds::StatusMask;
+    reader_ = participant.subscriber()->create_datareader(
+        topic, ReaderQos(stream), this,
+        StatusMask::data_available() << StatusMask::subscription_matched()
+                                     << StatusMask::liveliness_changed());
+    if (reader_ == nullptr) error_ = "cannot create a DDS reader on " + topic_name;
+  }
+  ~Reader() override {
+    if (reader_ != nullptr) {
+      reader_->set_listener(nullptr);
+      participant_.subscriber()->delete_datareader(reader_);
+    }
+  }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  bool ok() const { return reader_ != nullptr; }
+  const std::string& error() const { return error_; }
+
+  // The most recent sample received, if any.
+  std::optional<Data> Latest() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return latest_;
+  }
+  uint64_t received() const { return received_.load(); }
+
+  void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
+    Data data;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (reader->take_next_sample(&data, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      ++received_;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        latest_ = data;
+      }
+      if (callback_) callback_(data);
+    }
+  }
+  void on_subscription_matched(
+      eprosima::fastdds::dds::DataReader*,
+      const eprosima::fastdds::dds::SubscriptionMatchedStatus& info) override {
+    matched_ = info.current_count;
+  }
+  void on_liveliness_changed(eprosima::fastdds::dds::DataReader*,
+                             const eprosima::fastdds::dds::LivelinessChangedStatus& s) override {
+    if (on_liveliness_) on_liveliness_(s.alive_count);
+  }
+
+ private:
+  Participant& participant_;
+  Callback callback_;
+  LivelinessCallback on_liveliness_;
+  eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+  std::string error_;
+  mutable std::mutex mutex_;
+  std::optional<Data> latest_;
+  std::atomic<uint64_t> received_{0};
+};
+
+}  // namespace mostar::dds

@@ -1,0 +1,130 @@
+#include "common/dds/participant.h"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+#include "common/log/log.h"
+
+namespace mostar::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace frtps = eprosima::fastrtps;
+
+namespace {
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Loopback-only participant QoS: see the header.
+fdds::DomainParticipantQos LoopbackQos(const ParticipantOptions& options) {
+  fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
+  qos.name(options.name);
+  qos.transport().use_builtin_transports = false;
+
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList.push_back("127.0.0.1");
+  udp->maxInitialPeersRange = 32;  // up to 32 participants per domain on this host
+  udp->sendBufferSize = 4u << 20;
+  udp->receiveBufferSize = 4u << 20;
+  qos.transport().user_transports.push_back(udp);
+
+  auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+  shm->segment_size(options.shm_segment_bytes);
+  qos.transport().user_transports.push_back(shm);
+
+  // Unicast discovery to this host; no port given, so Fast DDS derives the well-known
+  // discovery ports of participant ids 0..maxInitialPeersRange-1 in this domain.
+  frtps::rtps::Locator_t peer;
+  peer.kind = LOCATOR_KIND_UDPv4;
+  frtps::rtps::IPLocator::setIPv4(peer, "127.0.0.1");
+  qos.wire_protocol().builtin.initialPeersList.push_back(peer);
+  qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
+      frtps::Duration_t(1, 0);
+  qos.wire_protocol().builtin.discovery_config.leaseDuration = frtps::Duration_t(10, 0);
+  return qos;
+}
+
+}  // namespace
+
+bool ParticipantOptions::IsValid(std::string* error) const {
+  if (domain_id < 0 || domain_id > 232) {
+    *error = "DDS domain id " + std::to_string(domain_id) + " is outside [0, 232]";
+    return false;
+  }
+  if (profile != "loopback" && !EndsWith(profile, ".xml")) {
+    *error = "DDS profile '" + profile + "' is neither 'loopback' nor an .xml file";
+    return false;
+  }
+  if (shm_segment_bytes < (1u << 20)) {
+    *error = "shared-memory segment must be at least 1 MiB";
+    return false;
+  }
+  return true;
+}
+
+std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& options,
+                                                 std::string* error) {
+  if (!options.IsValid(error)) return nullptr;
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  fdds::DomainParticipantQos qos;
+  if (options.profile == "loopback") {
+    qos = LoopbackQos(options);
+  } else {
+    if (factory->load_XML_profiles_file(options.profile) != ReturnCode_t::RETCODE_OK) {
+      *error = options.profile + ": cannot load the DDS XML profiles file";
+      return nullptr;
+    }
+    const std::string name =
+        options.xml_participant_profile.empty() ? options.name : options.xml_participant_profile;
+    if (factory->get_participant_qos_from_profile(name, qos) != ReturnCode_t::RETCODE_OK) {
+      *error = options.profile + ": no participant profile named '" + name + "'";
+      return nullptr;
+    }
+  }
+  std::unique_ptr<Participant> p(new Participant(options));
+  p->participant_ = factory->create_participant(options.domain_id, qos);
+  if (p->participant_ == nullptr) {
+    *error = "cannot create the DDS participant (domain " + std::to_string(options.domain_id) +
+             ", profile " + options.profile + ")";
+    return nullptr;
+  }
+  p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (p->publisher_ == nullptr || p->subscriber_ == nullptr) {
+    *error = "cannot create the DDS publisher/subscriber";
+    return nullptr;
+  }
+  MOSTAR_LOG(DEBUG) << "DDS participant '" << options.name << "' on domain "
+                    << options.domain_id << " with profile " << options.profile;
+  return p;
+}
+
+Participant::~Participant() {
+  if (participant_ == nullptr) return;
+  participant_->delete_contained_entities();
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+fdds::Topic* Participant::GetTopic(const std::string& name, fdds::TypeSupport type,
+                                   std::string* error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = topics_.find(name);
+  if (it != topics_.end()) return it->second;
+  if (participant_->find_type(type.get_type_name()).empty() &&
+      type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
+    *error = "cannot register DDS type " + type.get_type_name();
+    return nullptr;
+  }
+  fdds::Topic* topic = participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) {
+    *error = "cannot create DDS topic " + name;
+    return nullptr;
+  }
+  topics_[name] = topic;
+  return topic;
+}
+
+}  // namespace mostar::dds

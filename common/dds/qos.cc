@@ -1,0 +1,92 @@
+#include "common/dds/qos.h"
+
+namespace mostar::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+using eprosima::fastrtps::Duration_t;
+
+const char* StreamName(Stream stream) {
+  switch (stream) {
+    case Stream::kVideo:
+      return "video";
+    case Stream::kSensor:
+      return "sensor";
+    case Stream::kCommand:
+      return "command";
+    case Stream::kState:
+      return "state";
+    case Stream::kControl:
+      return "control";
+  }
+  return "?";
+}
+
+namespace {
+
+struct Common {
+  fdds::ReliabilityQosPolicyKind reliability;
+  int32_t depth;
+  fdds::DurabilityQosPolicyKind durability;
+};
+
+Common CommonOf(Stream stream) {
+  switch (stream) {
+    case Stream::kVideo:
+      return {fdds::BEST_EFFORT_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
+    case Stream::kSensor:
+      return {fdds::BEST_EFFORT_RELIABILITY_QOS, 5, fdds::VOLATILE_DURABILITY_QOS};
+    case Stream::kCommand:
+      return {fdds::RELIABLE_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
+    case Stream::kState:
+      return {fdds::RELIABLE_RELIABILITY_QOS, 1, fdds::TRANSIENT_LOCAL_DURABILITY_QOS};
+    case Stream::kControl:
+      return {fdds::RELIABLE_RELIABILITY_QOS, 10, fdds::VOLATILE_DURABILITY_QOS};
+  }
+  return {fdds::BEST_EFFORT_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
+}
+
+}  // namespace
+
+fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
+  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
+  const Common c = CommonOf(stream);
+  qos.reliability().kind = c.reliability;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = c.depth;
+  qos.durability().kind = c.durability;
+  // Unbounded generated types: keep the realloc memory mode (see fastdds notes).
+  qos.endpoint().history_memory_policy =
+      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  if (c.reliability == fdds::RELIABLE_RELIABILITY_QOS) {
+    qos.reliable_writer_qos().times.heartbeatPeriod = Duration_t(0, 50'000'000);
+  }
+  if (stream == Stream::kCommand) {
+    qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    qos.ownership_strength().value = static_cast<uint32_t>(ownership_strength);
+    qos.deadline().period = Duration_t(kCommandDeadlineSeconds);
+    qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
+    qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);
+    qos.liveliness().announcement_period = Duration_t(kCommandLivelinessSeconds / 3);
+  }
+  return qos;
+}
+
+fdds::DataReaderQos ReaderQos(Stream stream) {
+  fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
+  const Common c = CommonOf(stream);
+  qos.reliability().kind = c.reliability;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = c.depth;
+  qos.durability().kind = c.durability;
+  qos.endpoint().history_memory_policy =
+      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  if (stream == Stream::kCommand) {
+    qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    qos.deadline().period = Duration_t(kCommandDeadlineSeconds);
+    qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
+    qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);
+  }
+  return qos;
+}
+
+}  // namespace mostar::dds

@@ -1,0 +1,30 @@
+// QoS per stream kind: the one place where mostar's DDS QoS is defined.
+//
+// | stream   | reliability | history     | durability      | other                                  |
+// |----------|-------------|-------------|-----------------|----------------------------------------|
+// | kVideo   | best effort | keep last 1 | volatile        | large samples; frames dropped, never queued |
+// | kSensor  | best effort | keep last 5 | volatile        | scans, odometry (ROS SensorDataQoS-compatible) |
+// | kCommand | reliable    | keep last 1 | volatile        | exclusive ownership, deadline 200 ms, manual-by-topic liveliness 500 ms |
+// | kState   | reliable    | keep last 1 | transient local | lease, health: late joiners get the latest |
+// | kControl | reliable    | keep last 10| volatile        | control requests, e-stop, clock probes |
+#pragma once
+
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+namespace mostar::dds {
+
+enum class Stream { kVideo, kSensor, kCommand, kState, kControl };
+
+const char* StreamName(Stream stream);
+
+// `ownership_strength` is used for kCommand writers only (exclusive ownership).
+eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength = 0);
+eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
+
+// Deadline of the command stream: a pilot that sends nothing for this long is considered gone.
+constexpr double kCommandDeadlineSeconds = 0.2;
+// Liveliness lease of the command stream (MANUAL_BY_TOPIC: each write asserts it).
+constexpr double kCommandLivelinessSeconds = 0.5;
+
+}  // namespace mostar::dds

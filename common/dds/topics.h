@@ -1,0 +1,22 @@
+// DDS topic names (ROS 2 style: "rt/" + ROS topic name). See docs/architecture.md for types,
+// QoS, rates and units of each.
+#pragma once
+
+namespace mostar::dds::topics {
+
+// ROS 2 compatible sensor topics.
+inline constexpr const char* kCameraLeft = "rt/mostar/camera/left/image_raw/compressed";
+inline constexpr const char* kCameraRight = "rt/mostar/camera/right/image_raw/compressed";
+inline constexpr const char* kScan = "rt/mostar/scan";
+inline constexpr const char* kOdometry = "rt/mostar/odom";
+
+// mostar's own topics.
+inline constexpr const char* kCommand = "rt/mostar/cmd_vel";
+inline constexpr const char* kEmergencyStop = "rt/mostar/estop";
+inline constexpr const char* kControlRequest = "rt/mostar/control/request";
+inline constexpr const char* kControlLease = "rt/mostar/control/lease";
+inline constexpr const char* kHealth = "rt/mostar/health";
+inline constexpr const char* kClockPing = "rt/mostar/clock/ping";
+inline constexpr const char* kClockPong = "rt/mostar/clock/pong";
+
+}  // namespace mostar::dds::topics
