@@ -6,7 +6,7 @@ set -euo pipefail
 
 PACKAGES=(
   # toolchain
-  build-essential cmake pkg-config git clang-format
+  build-essential cmake ninja-build pkg-config git clang-format
   # DDS: runtime, generator (brings a JRE), tools
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   # sensors, maths, vision, config

@@ -1,0 +1,30 @@
+// Calibration profiles: LaserCameraCalibration <-> protobuf (common/math/calibration.proto) and
+// text files (protobuf text format, e.g. deploy/config/calibration_morduc.pbtxt).
+#pragma once
+
+#include <string>
+
+#include "common/math/calibration.pb.h"
+#include "common/math/camera_model.h"
+
+namespace mostar::math {
+
+// Every field is written; the optional intrinsics (focal_y_px, principal point) only when set.
+proto::LaserCameraCalibration ToProto(const LaserCameraCalibration& calibration,
+                                      const std::string& name = "");
+
+// Unset proto fields take the proto defaults (equal to LaserCameraCalibration's). Returns false
+// and sets `error` when the declared ranges or LaserCameraCalibration::IsValid() are violated;
+// `calibration` is then unchanged.
+bool FromProto(const proto::LaserCameraCalibration& message, LaserCameraCalibration* calibration,
+               std::string* error);
+
+// Reads a profile file; errors name the file (and line/key for syntax and range errors).
+bool LoadCalibrationProfile(const std::string& path, LaserCameraCalibration* calibration,
+                            std::string* error);
+
+// Writes a profile file atomically (for the calibration panel's "save").
+bool SaveCalibrationProfile(const std::string& path, const LaserCameraCalibration& calibration,
+                            const std::string& name, std::string* error);
+
+}  // namespace mostar::math

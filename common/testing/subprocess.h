@@ -1,0 +1,39 @@
+// Starts and supervises a child process for cross-process tests. Output goes to a file.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mostar::testing {
+
+class Subprocess {
+ public:
+  Subprocess() = default;
+  ~Subprocess();  // kills the child if still running
+  Subprocess(const Subprocess&) = delete;
+  Subprocess& operator=(const Subprocess&) = delete;
+
+  // argv[0] is the executable path. stdout and stderr go to `output_path`.
+  bool Start(const std::vector<std::string>& argv, const std::string& output_path,
+             std::string* error);
+  // Sends a signal (e.g. SIGTERM).
+  void Signal(int signal);
+  // Waits up to `timeout` for the exit; the exit code (128+signal when killed), or nullopt on
+  // timeout.
+  std::optional<int> Wait(std::chrono::milliseconds timeout);
+  bool running() const { return pid_ > 0; }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+// Reads a whole file ("" when missing).
+std::string ReadFile(const std::string& path);
+// A fresh directory under the test temp dir.
+std::string MakeTempDir(const std::string& prefix);
+
+}  // namespace mostar::testing

@@ -1,0 +1,89 @@
+#include "operator_client/net/operator_node.h"
+
+#include "common/dds/conversions.h"
+#include "common/dds/topics.h"
+
+namespace mostar::client {
+
+namespace topics = dds::topics;
+using dds::Stream;
+
+namespace {
+template <class T>
+bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
+  if (!endpoint || endpoint->ok()) return true;
+  *error = endpoint->error();
+  return false;
+}
+}  // namespace
+
+std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant,
+                                                   const Options& options, Callbacks callbacks,
+                                                   std::string* error) {
+  std::unique_ptr<OperatorNode> node(new OperatorNode());
+  node->callbacks_ = std::move(callbacks);
+  OperatorNode* self = node.get();
+  auto& p = *participant;
+  using ImageReader = dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType>;
+  node->left_ = std::make_unique<ImageReader>(
+      p, topics::kCameraLeft, Stream::kVideo, [self](const dds::wire::CompressedImage& image) {
+        if (self->callbacks_.on_image) self->callbacks_.on_image(Eye::kLeft, dds::FromIdl(image));
+      });
+  node->right_ = std::make_unique<ImageReader>(
+      p, topics::kCameraRight, Stream::kVideo, [self](const dds::wire::CompressedImage& image) {
+        if (self->callbacks_.on_image) {
+          self->callbacks_.on_image(Eye::kRight, dds::FromIdl(image));
+        }
+      });
+  node->scan_ = std::make_unique<decltype(node->scan_)::element_type>(
+      p, topics::kScan, Stream::kSensor, [self](const dds::wire::LaserScan& scan) {
+        if (self->callbacks_.on_scan) self->callbacks_.on_scan(dds::FromIdl(scan));
+      });
+  node->odom_ = std::make_unique<decltype(node->odom_)::element_type>(
+      p, topics::kOdometry, Stream::kSensor, [self](const dds::wire::Odometry& odom) {
+        if (self->callbacks_.on_odometry) self->callbacks_.on_odometry(dds::FromIdl(odom));
+      });
+  node->health_ = std::make_unique<decltype(node->health_)::element_type>(
+      p, topics::kHealth, Stream::kState, [self](const dds::wire::RobotHealth& health) {
+        if (self->callbacks_.on_health) self->callbacks_.on_health(dds::FromIdl(health));
+      });
+  node->lease_ = std::make_unique<decltype(node->lease_)::element_type>(
+      p, topics::kControlLease, Stream::kState, [self](const dds::wire::ControlLease& lease) {
+        if (self->callbacks_.on_lease) self->callbacks_.on_lease(dds::FromIdl(lease));
+      });
+  node->pong_ = std::make_unique<decltype(node->pong_)::element_type>(
+      p, topics::kClockPong, Stream::kControl, [self](const dds::wire::ClockProbe& probe) {
+        if (self->callbacks_.on_pong) self->callbacks_.on_pong(dds::FromIdl(probe));
+      });
+  if (options.pilot) {
+    node->command_ = std::make_unique<decltype(node->command_)::element_type>(
+        p, topics::kCommand, Stream::kCommand, options.command_strength);
+  }
+  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
+      p, topics::kEmergencyStop, Stream::kControl);
+  node->request_ = std::make_unique<decltype(node->request_)::element_type>(
+      p, topics::kControlRequest, Stream::kControl);
+  node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(p, topics::kClockPing,
+                                                                      Stream::kControl);
+  if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
+      !Check(node->odom_, error) || !Check(node->health_, error) ||
+      !Check(node->lease_, error) || !Check(node->pong_, error) ||
+      !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->request_, error) || !Check(node->ping_, error)) {
+    return nullptr;
+  }
+  return node;
+}
+
+bool OperatorNode::SendCommand(const VelocityCommand& command) {
+  return command_ != nullptr && command_->Write(dds::ToIdl(command));
+}
+bool OperatorNode::SendEmergencyStop(const EmergencyStop& stop) {
+  return estop_->Write(dds::ToIdl(stop));
+}
+bool OperatorNode::SendControlRequest(const ControlRequest& request) {
+  return request_->Write(dds::ToIdl(request));
+}
+bool OperatorNode::SendPing(const ClockProbe& probe) { return ping_->Write(dds::ToIdl(probe)); }
+
+}  // namespace mostar::client

@@ -1,0 +1,69 @@
+// The operator's DDS face: receives the robot's frames, scans, odometry, health and lease; sends
+// velocity commands, emergency stops, control requests and clock pings.
+//
+// Knows DDS and the wire types; knows nothing of OpenGL. Callbacks run on DDS threads and must
+// hand data over quickly. The command writer uses exclusive ownership with the given strength,
+// so among several live pilots the robot hears only the strongest.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "common/dds/endpoint.h"
+#include "common/types/commands.h"
+#include "common/types/health.h"
+#include "common/types/laser_scan.h"
+#include "common/types/odometry.h"
+#include "common/types/stereo_frame.h"
+#include "mostar_msgsPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
+
+namespace mostar::client {
+
+class OperatorNode {
+ public:
+  struct Callbacks {
+    std::function<void(Eye, const CompressedImage&)> on_image;
+    std::function<void(const LaserScan&)> on_scan;
+    std::function<void(const Odometry&)> on_odometry;
+    std::function<void(const RobotHealth&)> on_health;
+    std::function<void(const ControlLease&)> on_lease;
+    std::function<void(const ClockProbe&)> on_pong;
+  };
+  struct Options {
+    std::string client_id = "operator";
+    bool pilot = false;          // observers create no command writer
+    int32_t command_strength = 10;
+  };
+
+  static std::unique_ptr<OperatorNode> Create(dds::Participant* participant,
+                                              const Options& options, Callbacks callbacks,
+                                              std::string* error);
+
+  // False for observers and when DDS refused the sample.
+  bool SendCommand(const VelocityCommand& command);
+  bool SendEmergencyStop(const EmergencyStop& stop);
+  bool SendControlRequest(const ControlRequest& request);
+  bool SendPing(const ClockProbe& probe);
+
+  bool robot_seen() const { return scan_->matched() > 0 || health_->matched() > 0; }
+  bool is_pilot() const { return command_ != nullptr; }
+
+ private:
+  OperatorNode() = default;
+  Callbacks callbacks_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> left_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> right_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;
+  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> ping_;
+};
+
+}  // namespace mostar::client

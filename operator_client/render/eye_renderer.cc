@@ -1,0 +1,182 @@
+#include "operator_client/render/eye_renderer.h"
+
+namespace mostar::render {
+
+namespace {
+
+// Full-screen quad from a vertex id; texture coordinates flip y (image row 0 at the top).
+constexpr const char* kImageVertex = R"(#version 330 core
+uniform vec2 u_offset_ndc;
+out vec2 v_uv;
+void main() {
+  vec2 corner = vec2(float((gl_VertexID & 1)), float((gl_VertexID >> 1) & 1));
+  v_uv = vec2(corner.x, 1.0 - corner.y);
+  gl_Position = vec4(corner * 2.0 - 1.0 + u_offset_ndc, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kImageFragment = R"(#version 330 core
+uniform sampler2D u_image;
+uniform int u_has_image;
+in vec2 v_uv;
+out vec4 color;
+void main() {
+  color = u_has_image != 0 ? vec4(texture(u_image, v_uv).rgb, 1.0) : vec4(0.25, 0.25, 0.25, 1.0);
+}
+)";
+
+constexpr const char* kOverlayVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec4 a_color;
+uniform mat4 u_projection;
+uniform mat4 u_view;
+uniform vec2 u_offset_ndc;
+uniform float u_point_size;
+out vec4 v_color;
+void main() {
+  vec4 clip = u_projection * u_view * vec4(a_position, 1.0);
+  clip.xy += u_offset_ndc * clip.w;
+  gl_Position = clip;
+  gl_PointSize = u_point_size;
+  v_color = a_color;
+}
+)";
+
+constexpr const char* kOverlayFragment = R"(#version 330 core
+in vec4 v_color;
+out vec4 color;
+void main() { color = v_color; }
+)";
+
+}  // namespace
+
+EyeRenderer::~EyeRenderer() {
+  if (image_texture_) glDeleteTextures(1, &image_texture_);
+  if (color_texture_) glDeleteTextures(1, &color_texture_);
+  if (depth_buffer_) glDeleteRenderbuffers(1, &depth_buffer_);
+  if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
+  if (position_vbo_) glDeleteBuffers(1, &position_vbo_);
+  if (color_vbo_) glDeleteBuffers(1, &color_vbo_);
+  if (quad_vao_) glDeleteVertexArrays(1, &quad_vao_);
+  if (overlay_vao_) glDeleteVertexArrays(1, &overlay_vao_);
+}
+
+bool EyeRenderer::Init(std::string* error) {
+  if (!image_program_.Build(kImageVertex, kImageFragment, error)) return false;
+  if (!overlay_program_.Build(kOverlayVertex, kOverlayFragment, error)) return false;
+  glGenTextures(1, &image_texture_);
+  glBindTexture(GL_TEXTURE_2D, image_texture_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glGenVertexArrays(1, &quad_vao_);
+  glGenVertexArrays(1, &overlay_vao_);
+  glGenBuffers(1, &position_vbo_);
+  glGenBuffers(1, &color_vbo_);
+  glBindVertexArray(overlay_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, position_vbo_);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  glBindBuffer(GL_ARRAY_BUFFER, color_vbo_);
+  glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(1);
+  glBindVertexArray(0);
+  glGenFramebuffers(1, &framebuffer_);
+  return true;
+}
+
+void EyeRenderer::EnsureTarget(int width, int height) {
+  if (width == width_ && height == height_) return;
+  width_ = width;
+  height_ = height;
+  if (color_texture_) glDeleteTextures(1, &color_texture_);
+  if (depth_buffer_) glDeleteRenderbuffers(1, &depth_buffer_);
+  glGenTextures(1, &color_texture_);
+  glBindTexture(GL_TEXTURE_2D, color_texture_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glGenRenderbuffers(1, &depth_buffer_);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_buffer_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_texture_, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void EyeRenderer::DrawArray(const fusion::VertexArray& array, GLenum mode) {
+  if (array.empty()) return;
+  glBindBuffer(GL_ARRAY_BUFFER, position_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(array.positions.size() * sizeof(float)),
+               array.positions.data(), GL_STREAM_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, color_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(array.colors.size() * sizeof(float)),
+               array.colors.data(), GL_STREAM_DRAW);
+  glDrawArrays(mode, 0, static_cast<GLsizei>(array.vertex_count()));
+}
+
+void EyeRenderer::Render(const cv::Mat& image, const Eigen::Matrix4f& projection,
+                         const Eigen::Matrix4f& view, const OverlayGeometry& overlay,
+                         const EyeAlignment& alignment) {
+  const int width = image.empty() ? std::max(width_, 640) : image.cols;
+  const int height = image.empty() ? std::max(height_, 480) : image.rows;
+  EnsureTarget(width, height);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, width, height);
+  glDisable(GL_SCISSOR_TEST);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  // Crop: only the region with a correspondence in the other eye is drawn.
+  glEnable(GL_SCISSOR_TEST);
+  const int x0 = static_cast<int>(alignment.crop_left_px);
+  const int y0 = static_cast<int>(alignment.crop_bottom_px);
+  glScissor(x0, y0, std::max(0, width - x0 - static_cast<int>(alignment.crop_right_px)),
+            std::max(0, height - y0 - static_cast<int>(alignment.crop_top_px)));
+  // Image shift in NDC: +x right, +y up (image rows grow downwards).
+  const float offset_x = 2.f * alignment.offset_x_px / static_cast<float>(width);
+  const float offset_y = -2.f * alignment.offset_y_px / static_cast<float>(height);
+
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  image_program_.Use();
+  if (!image.empty()) {
+    glBindTexture(GL_TEXTURE_2D, image_texture_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, static_cast<GLint>(image.step / image.elemSize()));
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, image.cols, image.rows, 0, GL_BGR, GL_UNSIGNED_BYTE,
+                 image.data);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, image_texture_);
+  glUniform1i(image_program_.Uniform("u_image"), 0);
+  glUniform1i(image_program_.Uniform("u_has_image"), image.empty() ? 0 : 1);
+  glUniform2f(image_program_.Uniform("u_offset_ndc"), offset_x, offset_y);
+  glBindVertexArray(quad_vao_);
+  glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+
+  // Overlay: semi-transparent, no depth test (the image has no depth; walls blend).
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  overlay_program_.Use();
+  glUniformMatrix4fv(overlay_program_.Uniform("u_projection"), 1, GL_FALSE, projection.data());
+  glUniformMatrix4fv(overlay_program_.Uniform("u_view"), 1, GL_FALSE, view.data());
+  glUniform2f(overlay_program_.Uniform("u_offset_ndc"), offset_x, offset_y);
+  glUniform1f(overlay_program_.Uniform("u_point_size"), overlay.point_size_px);
+  glBindVertexArray(overlay_vao_);
+  DrawArray(overlay.triangles, GL_TRIANGLES);
+  glLineWidth(2.f);
+  DrawArray(overlay.lines, GL_LINES);
+  DrawArray(overlay.points, GL_POINTS);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace mostar::render

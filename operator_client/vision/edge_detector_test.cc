@@ -1,0 +1,91 @@
+#include "operator_client/vision/edge_detector.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+namespace mostar::vision {
+namespace {
+
+TEST(EdgeDetectorOptionsTest, DefaultsAreValid) {
+  std::string error;
+  EXPECT_TRUE(EdgeDetectorOptions{}.IsValid(&error)) << error;
+}
+
+TEST(EdgeDetectorOptionsTest, NamesTheViolatedConstraint) {
+  std::string error;
+  EdgeDetectorOptions options;
+  options.low_threshold = 200;
+  options.high_threshold = 100;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("low_threshold must be < high_threshold"), std::string::npos) << error;
+
+  options = EdgeDetectorOptions{};
+  options.canny_threshold2 = options.canny_threshold1 - 1;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("canny_threshold2"), std::string::npos) << error;
+
+  options = EdgeDetectorOptions{};
+  options.canny_aperture_px = 4;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("canny_aperture_px"), std::string::npos) << error;
+}
+
+TEST(StretchGreyTest, ClampsOutsideTheThresholdsAndIsLinearBetween) {
+  EXPECT_EQ(StretchGrey(0, 50, 150), 0);
+  EXPECT_EQ(StretchGrey(50, 50, 150), 0);
+  EXPECT_EQ(StretchGrey(100, 50, 150), 128);  // 127.5 rounds up
+  EXPECT_EQ(StretchGrey(150, 50, 150), 255);
+  EXPECT_EQ(StretchGrey(255, 50, 150), 255);
+  for (int g = 51; g < 150; ++g) {
+    EXPECT_LE(StretchGrey(g - 1, 50, 150), StretchGrey(g, 50, 150));
+  }
+}
+
+TEST(EdgeDetectorTest, RejectsUnsupportedImagesWithAMessage) {
+  const EdgeDetector detector(EdgeDetectorOptions{});
+  EdgeImages out;
+  std::string error;
+  EXPECT_FALSE(detector.Detect(cv::Mat(), &out, &error));
+  EXPECT_FALSE(error.empty());
+  EXPECT_FALSE(detector.Detect(cv::Mat(10, 10, CV_16UC1, cv::Scalar(0)), &out, &error));
+  EXPECT_NE(error.find("8-bit"), std::string::npos) << error;
+  EXPECT_TRUE(out.edges.empty());
+}
+
+TEST(EdgeDetectorTest, FindsAStepAndNothingInFlatAreas) {
+  cv::Mat image(120, 160, CV_8UC3, cv::Scalar(40, 40, 40));
+  image.rowRange(60, 120).setTo(cv::Scalar(180, 180, 180));
+  const EdgeDetector detector(EdgeDetectorOptions{});
+  EdgeImages out;
+  std::string error;
+  ASSERT_TRUE(detector.Detect(image, &out, &error)) << error;
+  ASSERT_EQ(out.edges.type(), CV_8UC1);
+  ASSERT_EQ(out.stretched_grey.size(), image.size());
+  EXPECT_EQ(out.stretched_grey.at<uint8_t>(10, 10), 0);     // 40 < lowTh
+  for (int col = 5; col < 155; ++col) {
+    const int hits = (out.edges.at<uint8_t>(59, col) != 0) + (out.edges.at<uint8_t>(60, col) != 0);
+    EXPECT_GE(hits, 1) << "column " << col;
+  }
+  EXPECT_EQ(cv::countNonZero(out.edges.rowRange(0, 55)), 0);
+  EXPECT_EQ(cv::countNonZero(out.edges.rowRange(65, 120)), 0);
+}
+
+TEST(EdgeDetectorTest, StretchingSuppressesAFaintPatternAboveHighThreshold) {
+  // A bright floor with tiles of grey 200 and 240, both above highTh.
+  cv::Mat grey(100, 100, CV_8UC1, cv::Scalar(200));
+  for (int r = 0; r < 100; r += 20) grey.rowRange(r, r + 10).setTo(240);
+  EdgeDetectorOptions options;
+  options.high_threshold = 195;
+  const EdgeDetector detector(options);
+  EdgeImages out;
+  std::string error;
+  ASSERT_TRUE(detector.Detect(grey, &out, &error)) << error;
+  EXPECT_EQ(cv::countNonZero(out.edges), 0);
+
+  options.high_threshold = 250;  // without suppression the tiles give edges
+  ASSERT_TRUE(EdgeDetector(options).Detect(grey, &out, &error)) << error;
+  EXPECT_GT(cv::countNonZero(out.edges), 0);
+}
+
+}  // namespace
+}  // namespace mostar::vision

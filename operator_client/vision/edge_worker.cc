@@ -1,0 +1,105 @@
+#include "operator_client/vision/edge_worker.h"
+
+#include <cassert>
+#include <utility>
+
+#include "common/log/log.h"
+
+namespace mostar::vision {
+
+EdgeWorker::EdgeWorker(const VisionOptions& options)
+    : custom_process_(false), pipeline_(std::make_shared<const VisionPipeline>(options)) {
+  thread_ = std::thread(&EdgeWorker::Run, this);
+}
+
+EdgeWorker::EdgeWorker(ProcessFunction process)
+    : process_(std::move(process)), custom_process_(true) {
+  assert(process_);
+  thread_ = std::thread(&EdgeWorker::Run, this);
+}
+
+EdgeWorker::~EdgeWorker() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  input_ready_.notify_all();
+  thread_.join();
+}
+
+void EdgeWorker::Submit(VisionInput input) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.submitted;
+    if (pending_.has_value()) ++stats_.replaced;
+    pending_ = std::move(input);
+  }
+  input_ready_.notify_one();
+}
+
+bool EdgeWorker::SetOptions(const VisionOptions& options, std::string* error) {
+  if (custom_process_) {
+    if (error != nullptr) *error = "this worker runs a custom process function";
+    return false;
+  }
+  if (!options.IsValid(error)) return false;
+  auto pipeline = std::make_shared<const VisionPipeline>(options);
+  std::lock_guard<std::mutex> lock(mutex_);
+  pipeline_ = std::move(pipeline);
+  return true;
+}
+
+VisionOptions EdgeWorker::options() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return pipeline_ != nullptr ? pipeline_->options() : VisionOptions{};
+}
+
+std::shared_ptr<const VisionResult> EdgeWorker::LatestResult() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return latest_;
+}
+
+bool EdgeWorker::WaitForProcessed(uint64_t count, Duration timeout) const {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return result_ready_.wait_for(lock, timeout, [&] { return stats_.processed >= count; });
+}
+
+EdgeWorker::Stats EdgeWorker::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void EdgeWorker::Run() {
+  while (true) {
+    VisionInput input;
+    std::shared_ptr<const VisionPipeline> pipeline;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      input_ready_.wait(lock, [&] { return stopping_ || pending_.has_value(); });
+      if (stopping_) return;
+      input = std::move(*pending_);
+      pending_.reset();
+      pipeline = pipeline_;
+    }
+    auto result = std::make_shared<VisionResult>();
+    if (custom_process_) {
+      process_(input, result.get());
+    } else {
+      pipeline->Process(input, result.get());
+    }
+    if (!result->ok) {
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "edge processing of frame pair " << input.sequence
+                                       << " failed: " << result->error;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++stats_.processed;
+      if (!result->ok) ++stats_.failed;
+      stats_.last_processing_time = result->processing_time;
+      latest_ = std::move(result);
+    }
+    result_ready_.notify_all();
+  }
+}
+
+}  // namespace mostar::vision

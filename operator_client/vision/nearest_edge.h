@@ -1,0 +1,88 @@
+// Nearest edges discovery, NED (thesis 8.2).
+//
+// For each laser beam, the "virtual ray" is the floor half-line from the robot base (the floor
+// point under the laser origin) along the beam's azimuth, through the floor projection of the
+// laser point and beyond, up to NearestEdgeOptions::max_range_m. It is projected into the edge
+// image with the camera model (distortion included: the 3D ray is sampled finely and each sample
+// projected, so the curved image of the line is followed) and walked from the robot outwards
+// until the first edge pixel. That pixel's point on the virtual ray is the beam's nearest edge
+// point (NEP): a floor point, usually the base of an obstacle.
+//
+// Frames: floor points are in the laser frame (x forward, y left, z up; the floor is
+// z = -laser_height_m). Distances are measured on the floor from the robot base. Pixels follow
+// common/math/camera_model.h (u right, v down, (0, 0) = centre of the top-left pixel).
+//
+// Pure functions: safe to call from any thread.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "common/math/camera_model.h"
+#include "common/types/laser_scan.h"
+
+namespace mostar::vision {
+
+struct NearestEdgeOptions {
+  // Farthest floor distance from the robot base walked along each virtual ray, metres; > 0.
+  // Beyond the laser point so that edges "further than the laser" are seen too (thesis 8.4).
+  double max_range_m = 8.0;
+  // Walking step along the image of the ray, pixels; in (0, 1]. Smaller is slower and never
+  // skips a pixel of the (8-connected) edge curves Canny produces.
+  double step_px = 0.5;
+  // Also accept edge pixels up to this many pixels across the walking direction (0 = only the
+  // pixels the ray passes through); in [0, 10].
+  int lateral_tolerance_px = 0;
+  // Rows at the bottom of the image that show the robot itself and are never searched; in
+  // [0, image height).
+  int bottom_margin_px = 0;
+
+  bool IsValid(std::string* error) const;
+};
+
+// A nearest edge point of one beam. When `found` is false the other fields are meaningless.
+struct Nep {
+  bool found = false;
+  // Floor distance from the robot base along the beam's azimuth, metres.
+  double distance_m = std::numeric_limits<double>::quiet_NaN();
+  // The point on the floor, laser frame (z = -laser_height_m).
+  Eigen::Vector3d floor_point_laser = Eigen::Vector3d::Zero();
+  // The edge pixel (integer pixel centre) in the image it was found in; for a fused stereo NEP,
+  // the fused point projected into the right image.
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  // NESC's verdict (thesis 9.2): false when seen by one eye only or when the eyes disagree; such
+  // a NEP is used only when it agrees with the laser. NED on one image (thesis 8) sets true.
+  bool reliable = true;
+};
+
+// NED over one image: neps[i] belongs to beam i of the scan.
+struct NedResult {
+  std::vector<Nep> neps;
+  int visible_rays = 0;  // beams whose virtual ray has a visible part in the image
+  int found = 0;         // beams with a NEP
+};
+
+// Runs NED for every beam of `scan` (any range value, NaN and Inf included: the virtual ray only
+// needs the beam's azimuth). `edges` is the CV_8UC1 edge image of the camera `camera` describes
+// (non-zero = edge); its size must match the camera's. On a size/type mismatch or invalid
+// options, returns false with `error` set and `out` holds one not-found NEP per beam.
+bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera,
+                      const LaserScan& scan, const NearestEdgeOptions& options, NedResult* out,
+                      std::string* error);
+
+// The NEP along one virtual ray: the floor half-line from the robot base with azimuth
+// `azimuth_rad` (laser frame, counter-clockwise, 0 = ahead). Preconditions as above (checked by
+// FindNearestEdges; this one asserts).
+Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera,
+                         double azimuth_rad, const NearestEdgeOptions& options,
+                         bool* ray_visible = nullptr);
+
+// Floor point (laser frame) at `distance_m` from the robot base along `azimuth_rad`.
+Eigen::Vector3d FloorPointLaser(double azimuth_rad, double distance_m, double laser_height_m);
+
+}  // namespace mostar::vision

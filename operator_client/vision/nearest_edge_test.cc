@@ -1,0 +1,205 @@
+#include "operator_client/vision/nearest_edge.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+namespace mostar::vision {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+math::LaserCameraCalibration Calibration() {
+  math::LaserCameraCalibration c;  // MORDUC-like defaults: 640x480, tilted 12 degrees down
+  return c;
+}
+
+LaserScan ScanWithBeams(int beams, float range_m) {
+  LaserScan scan;
+  scan.angle_min_rad = static_cast<float>(-kPi / 2);
+  scan.angle_increment_rad = static_cast<float>(kPi / (beams - 1));
+  scan.ranges_m.assign(beams, range_m);
+  return scan;
+}
+
+// Floor distance covered by one image row at `pixel` (metres per pixel, vertical).
+double MetresPerPixel(const math::CameraModel& camera, const Eigen::Vector3d& floor_point) {
+  const Eigen::Vector2d p = *camera.Project(floor_point);
+  const auto a = camera.UnprojectToFloor(p + Eigen::Vector2d(0, -0.5));
+  const auto b = camera.UnprojectToFloor(p + Eigen::Vector2d(0, 0.5));
+  return (*a - *b).norm();
+}
+
+TEST(NearestEdgeOptionsTest, RejectsBadValuesByName) {
+  std::string error;
+  NearestEdgeOptions options;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  options.step_px = 2.0;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("step_px"), std::string::npos);
+  options = NearestEdgeOptions{};
+  options.max_range_m = -1;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("max_range_m"), std::string::npos);
+}
+
+TEST(NearestEdgeTest, FindsAHorizontalLineDrawnAtAKnownFloorDistance) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  for (const double distance_m : {1.2, 2.0, 3.5, 6.0}) {
+    const Eigen::Vector3d floor_point = FloorPointLaser(0.0, distance_m, 0.40);
+    const Eigen::Vector2d pixel = *camera.Project(floor_point);
+    cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+    const int row = static_cast<int>(std::lround(pixel.y()));
+    edges.row(row).setTo(255);
+
+    const Nep nep = FindNearestEdgeOnRay(edges, camera, 0.0, NearestEdgeOptions{});
+    ASSERT_TRUE(nep.found) << distance_m;
+    EXPECT_EQ(nep.pixel.y(), row);
+    // Within one pixel-equivalent of the true distance (the row is rounded).
+    EXPECT_NEAR(nep.distance_m, distance_m, MetresPerPixel(camera, floor_point)) << distance_m;
+    EXPECT_NEAR(nep.floor_point_laser.z(), -0.40, 1e-12);
+    EXPECT_NEAR(nep.floor_point_laser.y(), 0.0, 1e-12);
+  }
+}
+
+TEST(NearestEdgeTest, EveryVisibleBeamStopsAtTheFirstLineFromTheRobot) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(300).setTo(255);  // nearer line
+  edges.row(200).setTo(255);  // farther line
+  const LaserScan scan = ScanWithBeams(181, 5.0f);
+  NedResult result;
+  std::string error;
+  ASSERT_TRUE(FindNearestEdges(edges, camera, scan, NearestEdgeOptions{}, &result, &error))
+      << error;
+  ASSERT_EQ(result.neps.size(), 181u);
+  EXPECT_GT(result.visible_rays, 40);
+  EXPECT_GT(result.found, 40);
+  for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    const Nep& nep = result.neps[i];
+    if (!nep.found) continue;
+    EXPECT_EQ(nep.pixel.y(), 300) << "beam " << i;
+    // The NEP lies on its beam's floor ray and re-projects onto the line.
+    const double azimuth = scan.AngleOf(i);
+    EXPECT_NEAR(std::atan2(nep.floor_point_laser.y(), nep.floor_point_laser.x()), azimuth, 1e-5);
+    EXPECT_NEAR(camera.Project(nep.floor_point_laser)->y(), 300.0, 0.75) << "beam " << i;
+  }
+  // Beams pointing sideways/backwards never enter the image.
+  EXPECT_FALSE(result.neps.front().found);
+  EXPECT_FALSE(result.neps.back().found);
+}
+
+TEST(NearestEdgeTest, FollowsTheCurvedImageOfTheRayUnderDistortion) {
+  math::LaserCameraCalibration calibration = Calibration();
+  calibration.distortion.k1 = -0.25;
+  calibration.distortion.k2 = 0.05;
+  const math::CameraModel camera(calibration, math::Eye::kMono);
+  // The image of the floor line x = 2.5 m (a curve under distortion), drawn 8-connected.
+  constexpr double kLineX = 2.5;
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  std::vector<cv::Point> curve;
+  for (double y = -4.0; y <= 4.0; y += 0.002) {
+    const auto p = camera.Project(Eigen::Vector3d(kLineX, y, -0.40));
+    if (p && camera.IsInImage(*p)) {
+      curve.emplace_back(static_cast<int>(std::lround(p->x())),
+                         static_cast<int>(std::lround(p->y())));
+    }
+  }
+  ASSERT_GT(curve.size(), 100u);
+  cv::polylines(edges, curve, false, cv::Scalar(255), 1, cv::LINE_8);
+
+  int checked = 0;
+  for (double azimuth = -0.6; azimuth <= 0.6; azimuth += 0.05) {
+    bool visible = false;
+    const Nep nep = FindNearestEdgeOnRay(edges, camera, azimuth, NearestEdgeOptions{}, &visible);
+    if (!visible) continue;
+    ASSERT_TRUE(nep.found) << azimuth;
+    const double expected_m = kLineX / std::cos(azimuth);
+    EXPECT_NEAR(nep.distance_m, expected_m,
+                1.5 * MetresPerPixel(camera, FloorPointLaser(azimuth, expected_m, 0.40)))
+        << azimuth;
+    ++checked;
+  }
+  EXPECT_GT(checked, 15);
+}
+
+TEST(NearestEdgeTest, IgnoresTheRobotsBottomMargin) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(470).setTo(255);  // the robot's own bumper
+  edges.row(350).setTo(255);
+  NearestEdgeOptions options;
+  EXPECT_EQ(FindNearestEdgeOnRay(edges, camera, 0.0, options).pixel.y(), 470);
+  options.bottom_margin_px = 20;
+  const Nep nep = FindNearestEdgeOnRay(edges, camera, 0.0, options);
+  ASSERT_TRUE(nep.found);
+  EXPECT_EQ(nep.pixel.y(), 350);
+}
+
+TEST(NearestEdgeTest, DoesNotCrossADiagonalEdgeUnseen) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  // A thin 8-connected diagonal line v = offset + slope * u; rays fanning left and right cross
+  // it in both diagonal directions, where a pixel-by-pixel walk could slip between two pixels.
+  for (const double slope : {1.0, -1.0}) {
+    const double offset = slope > 0 ? 60.0 : 700.0;
+    cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+    cv::line(edges, cv::Point(0, static_cast<int>(offset)),
+             cv::Point(639, static_cast<int>(offset + slope * 639)), cv::Scalar(255), 1,
+             cv::LINE_8);
+    const auto side = [&](const Eigen::Vector2d& p) { return p.y() - (offset + slope * p.x()); };
+    int crossing = 0;
+    for (double azimuth = -0.6; azimuth <= 0.6; azimuth += 0.005) {
+      const auto segment = camera.ProjectRayToImage(Eigen::Vector3d(0, 0, -0.40),
+                                                    Eigen::Vector3d(std::cos(azimuth),
+                                                                    std::sin(azimuth), 0),
+                                                    NearestEdgeOptions{}.max_range_m);
+      if (!segment || side(segment->start_px) * side(segment->end_px) > -4.0) continue;
+      ++crossing;
+      const Nep nep = FindNearestEdgeOnRay(edges, camera, azimuth, NearestEdgeOptions{});
+      ASSERT_TRUE(nep.found) << "azimuth " << azimuth << " slope " << slope;
+      EXPECT_NEAR(side(nep.pixel), 0.0, 1.0);
+    }
+    EXPECT_GT(crossing, 50);
+  }
+}
+
+TEST(NearestEdgeTest, LateralToleranceCatchesAnEdgeBesideTheRay) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const Eigen::Vector2d pixel = *camera.Project(FloorPointLaser(0.0, 3.0, 0.40));
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  const int col = static_cast<int>(std::lround(pixel.x())) + 2;
+  edges.at<uint8_t>(static_cast<int>(std::lround(pixel.y())), col) = 255;
+  NearestEdgeOptions options;
+  EXPECT_FALSE(FindNearestEdgeOnRay(edges, camera, 0.0, options).found);
+  options.lateral_tolerance_px = 2;
+  const Nep nep = FindNearestEdgeOnRay(edges, camera, 0.0, options);
+  ASSERT_TRUE(nep.found);
+  EXPECT_EQ(nep.pixel.x(), col);
+  EXPECT_NEAR(nep.distance_m, 3.0, 2 * MetresPerPixel(camera, FloorPointLaser(0.0, 3.0, 0.4)));
+}
+
+TEST(NearestEdgeTest, RejectsAMismatchedEdgeImageWithAMessage) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const LaserScan scan = ScanWithBeams(11, 2.0f);
+  NedResult result;
+  std::string error;
+  EXPECT_FALSE(FindNearestEdges(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), camera, scan,
+                                NearestEdgeOptions{}, &result, &error));
+  EXPECT_NE(error.find("640x480"), std::string::npos) << error;
+  ASSERT_EQ(result.neps.size(), 11u);
+  for (const Nep& nep : result.neps) EXPECT_FALSE(nep.found);
+}
+
+TEST(NearestEdgeTest, AnEmptyEdgeImageGivesNoNeps) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  NedResult result;
+  std::string error;
+  ASSERT_TRUE(FindNearestEdges(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), camera,
+                               ScanWithBeams(181, 3.0f), NearestEdgeOptions{}, &result, &error));
+  EXPECT_EQ(result.found, 0);
+  EXPECT_GT(result.visible_rays, 0);
+}
+
+}  // namespace
+}  // namespace mostar::vision

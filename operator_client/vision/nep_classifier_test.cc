@@ -1,0 +1,137 @@
+#include "operator_client/vision/nep_classifier.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace mostar::vision {
+namespace {
+
+constexpr double kLaserHeightM = 0.40;
+
+LaserScan ScanOf(std::vector<float> ranges_m) {
+  LaserScan scan;
+  scan.angle_min_rad = -0.1f;
+  scan.angle_increment_rad = 0.1f;
+  scan.ranges_m = std::move(ranges_m);
+  return scan;
+}
+
+Nep NepAt(const LaserScan& scan, size_t beam, double distance_m, bool reliable = true) {
+  Nep nep;
+  nep.found = true;
+  nep.distance_m = distance_m;
+  nep.floor_point_laser = FloorPointLaser(scan.AngleOf(beam), distance_m, kLaserHeightM);
+  nep.reliable = reliable;
+  return nep;
+}
+
+NepClassification Classify(const LaserScan& scan, const std::vector<Nep>& neps,
+                           const std::vector<bool>& outliers = {}) {
+  NepClassification out;
+  std::string error;
+  EXPECT_TRUE(ClassifyNeps(scan, neps, outliers, NepClassifierOptions{}, kLaserHeightM, &out,
+                           &error))
+      << error;
+  return out;
+}
+
+TEST(NepClassifierTest, AgreeingNepMovesTheLaserPointOntoIt) {
+  const LaserScan scan = ScanOf({2.0f, 2.0f, 2.0f});
+  const NepClassification out = Classify(scan, {Nep{}, NepAt(scan, 1, 2.07), Nep{}});
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kAgrees);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 2.07f);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[0], 2.0f);  // no NEP: untouched
+  EXPECT_EQ(out.corrected, 1);
+  EXPECT_TRUE(out.possible_obstacles.empty());
+}
+
+TEST(NepClassifierTest, MuchNearerNepIsAPossibleObstacleTheLaserMissed) {
+  const LaserScan scan = ScanOf({3.0f, 3.0f, 3.0f});
+  const NepClassification out = Classify(scan, {Nep{}, NepAt(scan, 1, 1.5), Nep{}});
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kNearer);
+  ASSERT_EQ(out.possible_obstacles.size(), 1u);
+  EXPECT_EQ(out.possible_obstacles[0].beam, 1);
+  EXPECT_DOUBLE_EQ(out.possible_obstacles[0].distance_m, 1.5);
+  EXPECT_NEAR(out.possible_obstacles[0].floor_point_laser.norm(),
+              std::hypot(1.5, kLaserHeightM), 1e-9);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 3.0f);  // the laser is not moved
+}
+
+TEST(NepClassifierTest, MuchFurtherNepIsIgnored) {
+  const LaserScan scan = ScanOf({1.0f});
+  const NepClassification out = Classify(scan, {NepAt(scan, 0, 2.5)});
+  EXPECT_EQ(out.beams[0].relation, NepRelation::kFurther);
+  EXPECT_EQ(out.further, 1);
+  EXPECT_TRUE(out.possible_obstacles.empty());
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[0], 1.0f);
+}
+
+TEST(NepClassifierTest, ThresholdIsInclusive) {
+  EXPECT_EQ(RelateNepToLaser(2.0999, 2.0f, 0.1), NepRelation::kAgrees);
+  EXPECT_EQ(RelateNepToLaser(1.85, 2.0f, 0.1), NepRelation::kNearer);
+  EXPECT_EQ(RelateNepToLaser(2.15, 2.0f, 0.1), NepRelation::kFurther);
+}
+
+TEST(NepClassifierTest, BeamWithoutAValidRangeMakesTheNepAPossibleObstacle) {
+  const LaserScan scan = ScanOf({std::numeric_limits<float>::quiet_NaN(),
+                                 std::numeric_limits<float>::infinity()});
+  const NepClassification out = Classify(scan, {NepAt(scan, 0, 1.0), NepAt(scan, 1, 4.0)});
+  EXPECT_EQ(out.beams[0].relation, NepRelation::kNearer);
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kNearer);
+}
+
+TEST(NepClassifierTest, DisagreeingNepConfirmsAPotentialOutlier) {
+  // Beam 1: a spurious short range between two walls at 3 m; the edge is at the wall.
+  const LaserScan scan = ScanOf({3.0f, 1.2f, 3.0f, 3.0f});
+  const NepClassification out =
+      Classify(scan, {Nep{}, NepAt(scan, 1, 3.0), Nep{}, NepAt(scan, 3, 1.0)},
+               {false, true, false, true});
+  EXPECT_TRUE(out.beams[1].confirmed_outlier);           // further NEP disagrees
+  EXPECT_TRUE(std::isnan(out.corrected_scan.ranges_m[1]));  // not drawn
+  EXPECT_TRUE(out.beams[3].confirmed_outlier);           // nearer NEP disagrees too
+  EXPECT_EQ(out.confirmed_outliers, 2);
+  EXPECT_FALSE(out.beams[0].confirmed_outlier);
+}
+
+TEST(NepClassifierTest, PotentialOutlierWithAnAgreeingOrNoNepIsKept) {
+  const LaserScan scan = ScanOf({1.2f, 1.2f});
+  const NepClassification out = Classify(scan, {NepAt(scan, 0, 1.25), Nep{}}, {true, true});
+  EXPECT_FALSE(out.beams[0].confirmed_outlier);
+  EXPECT_FALSE(out.beams[1].confirmed_outlier);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[0], 1.25f);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 1.2f);
+  EXPECT_EQ(out.potential_outliers_kept, 2);
+}
+
+TEST(NepClassifierTest, UnreliableNepCountsOnlyWhenItAgrees) {
+  const LaserScan scan = ScanOf({3.0f, 3.0f, 3.0f});
+  const NepClassification out = Classify(
+      scan, {NepAt(scan, 0, 1.0, false), NepAt(scan, 1, 3.05, false), NepAt(scan, 2, 1.0, false)},
+      {false, false, true});
+  EXPECT_EQ(out.beams[0].relation, NepRelation::kNone);
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kAgrees);
+  EXPECT_FALSE(out.beams[2].confirmed_outlier);  // an unreliable NEP confirms nothing
+  EXPECT_TRUE(out.possible_obstacles.empty());
+  EXPECT_EQ(out.unreliable_ignored, 2);
+}
+
+TEST(NepClassifierTest, RejectsSizeMismatchesWithAMessage) {
+  const LaserScan scan = ScanOf({1.0f, 1.0f});
+  NepClassification out;
+  std::string error;
+  EXPECT_FALSE(ClassifyNeps(scan, {Nep{}}, {}, NepClassifierOptions{}, kLaserHeightM, &out,
+                            &error));
+  EXPECT_NE(error.find("1 NEPs for 2 beams"), std::string::npos) << error;
+  EXPECT_FALSE(ClassifyNeps(scan, {Nep{}, Nep{}}, {true}, NepClassifierOptions{}, kLaserHeightM,
+                            &out, &error));
+  EXPECT_NE(error.find("outlier labels"), std::string::npos) << error;
+  NepClassifierOptions bad;
+  bad.edge_threshold_m = 0;
+  EXPECT_FALSE(ClassifyNeps(scan, {Nep{}, Nep{}}, {}, bad, kLaserHeightM, &out, &error));
+  EXPECT_NE(error.find("edge_threshold_m"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace mostar::vision

@@ -1,0 +1,152 @@
+#include "operator_client/vision/vision_pipeline.h"
+
+#include <cassert>
+#include <chrono>
+#include <sstream>
+
+namespace mostar::vision {
+
+bool VisionOptions::IsValid(std::string* error) const {
+  std::string why;
+  const auto fail = [&](const char* part) {
+    if (error != nullptr) *error = std::string(part) + ": " + why;
+    return false;
+  };
+  if (!edges.IsValid(&why)) return fail("edges");
+  if (!nearest_edge.IsValid(&why)) return fail("nearest_edge");
+  if (!classifier.IsValid(&why)) return fail("classifier");
+  if (!nesc.IsValid(&why)) return fail("nesc");
+  return true;
+}
+
+proto::VisionConfig ToProto(const VisionOptions& options) {
+  proto::VisionConfig config;
+  proto::EdgeDetectionConfig* edges = config.mutable_edges();
+  edges->set_low_threshold(options.edges.low_threshold);
+  edges->set_high_threshold(options.edges.high_threshold);
+  edges->set_canny_threshold1(options.edges.canny_threshold1);
+  edges->set_canny_threshold2(options.edges.canny_threshold2);
+  edges->set_canny_aperture_px(options.edges.canny_aperture_px);
+  edges->set_l2_gradient(options.edges.l2_gradient);
+  proto::NearestEdgeConfig* ned = config.mutable_nearest_edge();
+  ned->set_max_range_m(options.nearest_edge.max_range_m);
+  ned->set_step_px(options.nearest_edge.step_px);
+  ned->set_lateral_tolerance_px(options.nearest_edge.lateral_tolerance_px);
+  ned->set_bottom_margin_px(options.nearest_edge.bottom_margin_px);
+  config.set_edge_threshold_m(options.classifier.edge_threshold_m);
+  config.set_stereo_threshold_m(options.nesc.stereo_threshold_m);
+  config.set_stereo(options.stereo);
+  config.set_keep_edge_images(options.keep_edge_images);
+  return config;
+}
+
+VisionOptions FromProto(const proto::VisionConfig& config) {
+  VisionOptions options;
+  const proto::EdgeDetectionConfig& edges = config.edges();
+  options.edges.low_threshold = edges.low_threshold();
+  options.edges.high_threshold = edges.high_threshold();
+  options.edges.canny_threshold1 = edges.canny_threshold1();
+  options.edges.canny_threshold2 = edges.canny_threshold2();
+  options.edges.canny_aperture_px = edges.canny_aperture_px();
+  options.edges.l2_gradient = edges.l2_gradient();
+  const proto::NearestEdgeConfig& ned = config.nearest_edge();
+  options.nearest_edge.max_range_m = ned.max_range_m();
+  options.nearest_edge.step_px = ned.step_px();
+  options.nearest_edge.lateral_tolerance_px = ned.lateral_tolerance_px();
+  options.nearest_edge.bottom_margin_px = ned.bottom_margin_px();
+  options.classifier.edge_threshold_m = config.edge_threshold_m();
+  options.nesc.stereo_threshold_m = config.has_stereo_threshold_m()
+                                        ? config.stereo_threshold_m()
+                                        : 0.5 * config.edge_threshold_m();
+  options.stereo = config.stereo();
+  options.keep_edge_images = config.keep_edge_images();
+  return options;
+}
+
+VisionPipeline::VisionPipeline(const VisionOptions& options)
+    : options_(options), detector_(options.edges) {
+  assert(options_.IsValid(nullptr));
+}
+
+VisionResult VisionPipeline::Process(const VisionInput& input) const {
+  VisionResult result;
+  Process(input, &result);
+  return result;
+}
+
+void VisionPipeline::Process(const VisionInput& input, VisionResult* out) const {
+  assert(out != nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  out->stamp = input.stamp;
+  out->sequence = input.sequence;
+  out->ok = false;
+  out->error.clear();
+  out->stereo = options_.stereo;
+  out->nesc = NescResult{};
+  const auto finish = [&](bool ok, const std::string& error) {
+    out->ok = ok;
+    out->error = error;
+    if (!options_.keep_edge_images) {
+      out->left_edges = EdgeImages{};
+      out->right_edges = EdgeImages{};
+    }
+    out->processing_time = std::chrono::duration_cast<Duration>(
+        std::chrono::steady_clock::now() - start);
+  };
+  std::string error;
+  if (input.left_camera == nullptr || (options_.stereo && input.right_camera == nullptr)) {
+    return finish(false, "missing camera model");
+  }
+  const size_t beams = input.scan.ranges_m.size();
+  if (!input.potential_outliers.empty() && input.potential_outliers.size() != beams) {
+    std::ostringstream why;
+    why << "got " << input.potential_outliers.size() << " outlier labels for " << beams
+        << " beams";
+    return finish(false, why.str());
+  }
+
+  const auto run_eye = [&](const cv::Mat& image, const math::CameraModel& camera,
+                           const char* name, EdgeImages* edges, NedResult* ned) {
+    if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
+      std::ostringstream why;
+      why << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
+          << camera.width_px() << "x" << camera.height_px();
+      error = why.str();
+      return false;
+    }
+    std::string why;
+    if (!detector_.Detect(image, edges, &why) ||
+        !FindNearestEdges(edges->edges, camera, input.scan, options_.nearest_edge, ned, &why)) {
+      error = std::string(name) + ": " + why;
+      return false;
+    }
+    return true;
+  };
+
+  if (!run_eye(input.left, *input.left_camera, "left", &out->left_edges, &out->left_ned)) {
+    return finish(false, error);
+  }
+  if (options_.stereo) {
+    if (!run_eye(input.right, *input.right_camera, "right", &out->right_edges,
+                 &out->right_ned)) {
+      return finish(false, error);
+    }
+    if (!RunNesc(out->left_ned, out->right_ned, input.scan, *input.right_camera, options_.nesc,
+                 options_.classifier.edge_threshold_m, &out->nesc, &error)) {
+      return finish(false, "nesc: " + error);
+    }
+    out->selected = out->nesc.selected;
+  } else {
+    out->right_edges = EdgeImages{};
+    out->right_ned = NedResult{};
+    out->selected = out->left_ned.neps;
+  }
+  if (!ClassifyNeps(input.scan, out->selected, input.potential_outliers, options_.classifier,
+                    input.left_camera->calibration().laser_height_m, &out->classification,
+                    &error)) {
+    return finish(false, "classifier: " + error);
+  }
+  finish(true, "");
+}
+
+}  // namespace mostar::vision

@@ -1,0 +1,96 @@
+// One frame pair through the whole edge processing of the operator client: contrast stretching
+// and Canny on each eye (thesis 8.1), NED on each (8.2), NESC (9.2), then the laser
+// double-check and overlay correction (8.3, 8.4). Plain data in, plain data out: no OpenGL, no
+// DDS. EdgeWorker runs it on a thread; benchmarks and the ground-truth bench call it directly.
+//
+// Threading: VisionPipeline is immutable after construction and Process() is const, so one
+// pipeline may serve several threads.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "common/math/camera_model.h"
+#include "common/time/time.h"
+#include "common/types/laser_scan.h"
+#include "operator_client/vision/edge_detector.h"
+#include "operator_client/vision/nearest_edge.h"
+#include "operator_client/vision/nep_classifier.h"
+#include "operator_client/vision/nesc.h"
+#include "operator_client/vision/vision_config.pb.h"
+
+namespace mostar::vision {
+
+// Every parameter of the edge processing. Defaults = the proto defaults.
+struct VisionOptions {
+  EdgeDetectorOptions edges;
+  NearestEdgeOptions nearest_edge;
+  NepClassifierOptions classifier;  // edgeTh
+  NescOptions nesc;                 // stereoTh (FromProto: edgeTh / 2 unless set)
+  bool stereo = true;               // false: monoscopic processing of the left image
+  bool keep_edge_images = true;     // keep EdgeImages in the result
+
+  // Checks every part and the thesis' remark that stereoTh < 2 edgeTh is expected (not an
+  // error). Returns false with `error` naming the first violated constraint.
+  bool IsValid(std::string* error) const;
+};
+
+proto::VisionConfig ToProto(const VisionOptions& options);
+// Converts a config (ranges already checked by the loader); IsValid() the result before use.
+VisionOptions FromProto(const proto::VisionConfig& config);
+
+// The input of one frame pair: both images of one capture, the scan matched to that capture and
+// the calibration in force. Images: CV_8UC1, CV_8UC3 (BGR) or CV_8UC4 (BGRA) of the cameras'
+// size; `right` may be empty in monoscopic mode. cv::Mat shares its buffer: the caller must not
+// write into the images after handing them over.
+struct VisionInput {
+  Time stamp;              // capture time of the images (the result carries it back)
+  uint64_t sequence = 0;   // frame pair counter of the producer
+  cv::Mat left;
+  cv::Mat right;
+  LaserScan scan;          // laser frame, the scan matched to the images
+  // Fusion's discontinuity labelling: one flag per beam, or empty.
+  std::vector<bool> potential_outliers;
+  std::shared_ptr<const math::CameraModel> left_camera;   // Eye::kLeft (or kMono)
+  std::shared_ptr<const math::CameraModel> right_camera;  // Eye::kRight; may be null in mono
+};
+
+struct VisionResult {
+  Time stamp;             // = VisionInput::stamp: draw this over the frame with this stamp
+  uint64_t sequence = 0;  // = VisionInput::sequence
+  bool ok = false;        // false: `error` says why; nothing else is meaningful
+  std::string error;
+  bool stereo = false;    // NESC ran (else `selected` comes from the left image alone)
+  EdgeImages left_edges;  // empty unless keep_edge_images
+  EdgeImages right_edges;
+  NedResult left_ned;
+  NedResult right_ned;
+  NescResult nesc;               // stereo only
+  std::vector<Nep> selected;     // per beam, the NEPs that were classified
+  NepClassification classification;
+  Duration processing_time{0};   // wall time of Process()
+};
+
+class VisionPipeline {
+ public:
+  // `options` must be valid (asserted).
+  explicit VisionPipeline(const VisionOptions& options);
+
+  // Processes one input. Bad input (missing camera, wrong image type or size, beam count
+  // mismatch) gives ok = false with a message; never throws for bad data.
+  VisionResult Process(const VisionInput& input) const;
+  void Process(const VisionInput& input, VisionResult* out) const;
+
+  const VisionOptions& options() const { return options_; }
+
+ private:
+  VisionOptions options_;
+  EdgeDetector detector_;
+};
+
+}  // namespace mostar::vision

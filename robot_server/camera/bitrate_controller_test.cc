@@ -1,0 +1,153 @@
+#include "robot_server/camera/bitrate_controller.h"
+
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+#include "robot_server/camera/fake_stereo_camera.h"
+
+namespace mostar::camera {
+namespace {
+
+constexpr double kFrameRateHz = 30;
+
+// Size of one 640x480 stereo pair: roughly what a camera image gives, growing with quality
+// and with the number of pixels.
+size_t ModelPairBytes(const EncodeSettings& settings) {
+  const double q = settings.jpeg.quality / 100.0;
+  const double pixels = 2 * 640 * 480 * settings.jpeg.scale * settings.jpeg.scale;
+  return static_cast<size_t>(pixels * (0.01 + 0.25 * q * q));
+}
+
+struct RunResult {
+  BitrateStats stats;
+  double tail_offered_bits_per_s = 0;  // mean over the last 5 s
+};
+
+// Runs `seconds` of 30 Hz capture through the controller. `link_bits_per_s` > 0 simulates an
+// ack-clocked link of that capacity (a pair is skipped while the previous one is in flight).
+template <typename SizeFn>
+RunResult Simulate(BitrateController* controller, double seconds, SizeFn size_of,
+              double link_bits_per_s = 0, double rtt_s = 0.005) {
+  SteadyTime now(std::chrono::seconds(100));
+  SteadyTime link_free = now;
+  const Duration period = FromSeconds(1.0 / kFrameRateHz);
+  const int frames = static_cast<int>(seconds * kFrameRateHz);
+  const int tail_start = frames - static_cast<int>(5 * kFrameRateHz);
+  double tail_bytes = 0;
+  for (int k = 0; k < frames; ++k, now += period) {
+    const EncodeSettings settings = controller->Current();
+    if (k % settings.frame_rate_divisor != 0) continue;
+    const size_t bytes = size_of(settings);
+    bool sent = true;
+    if (link_bits_per_s > 0) {
+      sent = now >= link_free;
+      if (sent) link_free = now + FromSeconds(8.0 * bytes / link_bits_per_s + rtt_s);
+    }
+    controller->OnPairEncoded(now, bytes, sent);
+    if (k >= tail_start) tail_bytes += static_cast<double>(bytes);
+  }
+  return {controller->Stats(), 8.0 * tail_bytes / 5.0};
+}
+
+TEST(BitrateControllerTest, UnlimitedTargetClimbsToMaximumQuality) {
+  BitrateControllerOptions options;
+  options.initial_quality = 50;
+  BitrateController controller(options);
+  const RunResult result = Simulate(&controller, 5, ModelPairBytes);
+  EXPECT_EQ(result.stats.quality, options.max_quality);
+  EXPECT_EQ(result.stats.scale, 1.0);
+  EXPECT_EQ(result.stats.frame_rate_divisor, 1);
+  EXPECT_NEAR(result.stats.pair_rate_hz, 30, 0.5);
+}
+
+TEST(BitrateControllerTest, ConvergesToAWanTargetByQualityAlone) {
+  BitrateControllerOptions options;
+  options.target_bits_per_s = 8e6;
+  BitrateController controller(options);
+  const RunResult result = Simulate(&controller, 20, ModelPairBytes);
+  EXPECT_LE(result.tail_offered_bits_per_s, 8e6 * 1.02);
+  EXPECT_GE(result.tail_offered_bits_per_s, 8e6 * 0.75);
+  EXPECT_EQ(result.stats.scale, 1.0);
+  EXPECT_EQ(result.stats.frame_rate_divisor, 1);
+  EXPECT_GT(result.stats.quality, options.min_quality);
+  EXPECT_LT(result.stats.quality, options.max_quality);
+}
+
+TEST(BitrateControllerTest, HeavyLimitsLowerResolutionAndThenFrameRate) {
+  BitrateControllerOptions options;
+  options.target_bits_per_s = 1e6;
+  BitrateController controller(options);
+  const RunResult result = Simulate(&controller, 30, ModelPairBytes);
+  EXPECT_LE(result.tail_offered_bits_per_s, 1e6 * 1.05);
+  EXPECT_GE(result.tail_offered_bits_per_s, 1e6 * 0.5);
+  EXPECT_LT(result.stats.scale, 1.0);
+  EXPECT_GT(result.stats.frame_rate_divisor, 1);
+}
+
+TEST(BitrateControllerTest, RecoversFullQualityWhenTheTargetIsLifted) {
+  BitrateControllerOptions options;
+  options.target_bits_per_s = 1e6;
+  BitrateController controller(options);
+  Simulate(&controller, 30, ModelPairBytes);
+  ASSERT_GT(controller.Stats().level, 0);
+  controller.SetTargetBitsPerSecond(0);
+  const RunResult result = Simulate(&controller, 30, ModelPairBytes);
+  EXPECT_EQ(result.stats.level, 0);
+  EXPECT_EQ(result.stats.quality, options.max_quality);
+}
+
+TEST(BitrateControllerTest, AckClockSkipsBringTheStreamUnderTheLinkRate) {
+  BitrateControllerOptions options;  // LAN class: no configured limit
+  BitrateController controller(options);
+  const double link = 10e6;
+  const RunResult result = Simulate(&controller, 30, ModelPairBytes, link);
+  EXPECT_GT(result.stats.link_bits_per_s, 0);
+  EXPECT_LE(result.tail_offered_bits_per_s, link * 1.1);
+  EXPECT_GE(result.stats.achieved_bits_per_s, link * 0.4);
+  EXPECT_LT(result.stats.skipped_fraction, 0.3);
+  EXPECT_LT(result.stats.quality, options.max_quality);
+}
+
+// The same with real JPEG sizes: synthetic camera-like images encoded at the controller's
+// settings.
+TEST(BitrateControllerTest, ConvergesOnRealJpegSizes) {
+  BitrateControllerOptions options;
+  options.target_bits_per_s = 6e6;
+  BitrateController controller(options);
+  JpegCompressor compressor;
+  std::vector<StereoImagePair> frames;
+  for (uint64_t i = 0; i < 8; ++i) {
+    StereoImagePair pair;
+    pair.left = MakeSyntheticImage(640, 480, i * 5, false);
+    pair.right = MakeSyntheticImage(640, 480, i * 5, true);
+    frames.push_back(pair);
+  }
+  size_t index = 0;
+  const auto jpeg_bytes = [&](const EncodeSettings& settings) {
+    CompressedStereoPair out;
+    std::string error;
+    EXPECT_TRUE(compressor.Compress(frames[index++ % frames.size()], settings.jpeg, &out, &error))
+        << error;
+    return out.left.data.size() + out.right.data.size();
+  };
+  const RunResult result = Simulate(&controller, 15, jpeg_bytes);
+  EXPECT_LE(result.tail_offered_bits_per_s, 6e6 * 1.05);
+  EXPECT_GE(result.tail_offered_bits_per_s, 6e6 * 0.6);
+}
+
+TEST(BitrateControllerTest, OptionsValidationNamesTheProblem) {
+  std::string error;
+  BitrateControllerOptions options;
+  EXPECT_TRUE(options.IsValid(&error));
+  options.scales = {0.5, 1.0};
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("scales"), std::string::npos);
+  options = {};
+  options.min_quality = 95;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("quality"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mostar::camera

@@ -1,0 +1,117 @@
+// Capture -> latest-value slot -> JPEG compression -> delivery, with health and reconnection.
+//
+// Two threads: the capture thread owns the StereoCamera (Open, Grab, Close, reopening it every
+// `reopen_period` after a loss or after `max_consecutive_timeouts` timeouts in a row); the
+// compression thread takes the newest pair from a LatestValueSlot (older pairs are dropped and
+// counted, never queued), encodes both eyes in parallel at the BitrateController's settings and
+// calls the delivery callback. The callback runs on the compression thread; it returns whether
+// the transport sent the pair or skipped it at the source (ack-clock), which feeds the
+// bitrate control. Start(), Stop(), Health() and the setters never block on the camera or the
+// network (Stop() waits for the current Grab(), at most `grab_timeout`).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "common/time/rate_meter.h"
+#include "common/time/time.h"
+#include "common/types/health.h"
+#include "common/types/stereo_frame.h"
+#include "robot_server/camera/bitrate_controller.h"
+#include "robot_server/camera/jpeg_compressor.h"
+#include "robot_server/camera/latest_value_slot.h"
+#include "robot_server/camera/stereo_camera.h"
+
+namespace mostar::camera {
+
+enum class Delivery {
+  kSent,     // the transport took the pair
+  kSkipped,  // the transport skipped it at the source (previous pair not yet acknowledged)
+};
+
+struct CameraPipelineOptions {
+  std::string name = "stereo_camera";  // DeviceHealth name
+  Duration grab_timeout = std::chrono::milliseconds(500);
+  int max_consecutive_timeouts = 4;     // then the camera is closed and reopened
+  Duration reopen_period = std::chrono::seconds(1);
+  bool parallel_compression = true;
+  BitrateControllerOptions bitrate;
+  // Named bitrate targets for SetBitrateClass(), bits/s, 0 = unlimited ("lan", "wan", ...).
+  std::map<std::string, double> bitrate_classes = {{"lan", 0}, {"wan", 8e6}};
+  bool IsValid(std::string* error) const;
+};
+
+class CameraPipeline {
+ public:
+  using DeliverFn = std::function<Delivery(const CompressedStereoPair&)>;
+
+  // `camera` is owned; `deliver` is called on the compression thread; `clock` (not owned,
+  // outlives the pipeline) gives the monotonic time for rates and the bitrate control.
+  CameraPipeline(std::unique_ptr<StereoCamera> camera, const CameraPipelineOptions& options,
+                 DeliverFn deliver, const Clock* clock = &SystemClock::Instance());
+  ~CameraPipeline();  // Stop()
+  CameraPipeline(const CameraPipeline&) = delete;
+  CameraPipeline& operator=(const CameraPipeline&) = delete;
+
+  // Starts both threads. The camera need not be present: it is opened (and reopened) by the
+  // capture thread, and its absence shows in Health(). Idempotent.
+  void Start();
+  // Stops both threads and closes the camera. Idempotent; the pipeline cannot be restarted.
+  void Stop();
+
+  // Health snapshot (any thread): state, message and counters frames, pairs_delivered,
+  // pairs_skipped_at_source, slot_drops, divided (not encoded: frame-rate divisor), timeouts,
+  // device_lost, reopen_attempts, open_failures, encode_errors, jpeg_quality,
+  // jpeg_scale_percent, frame_rate_divisor, bitrate_bps, target_bitrate_bps; rate_hz is the
+  // delivered pair rate.
+  DeviceHealth Health() const;
+  BitrateStats bitrate_stats() const;
+
+  // Any thread; applied from the next encoded pair.
+  void SetTargetBitsPerSecond(double bits_per_s);
+  // Applies a configured class; false (unchanged) when the name is unknown.
+  bool SetBitrateClass(const std::string& name);
+
+ private:
+  void CaptureLoop();
+  void CompressLoop();
+  void SetState(DeviceState state, const std::string& message);
+  bool WaitForStop(Duration duration);  // true when stopping
+
+  std::unique_ptr<StereoCamera> camera_;
+  const CameraPipelineOptions options_;
+  const DeliverFn deliver_;
+  const Clock* clock_;
+  LatestValueSlot<StereoImagePair> slot_;
+
+  std::mutex stop_mutex_;
+  std::condition_variable stop_cv_;
+  bool stopping_ = false;
+  bool started_ = false;
+  std::thread capture_thread_;
+  std::thread compress_thread_;
+
+  mutable std::mutex mutex_;  // guards everything below
+  DeviceState state_ = DeviceState::kOff;
+  std::string message_ = "not started";
+  uint64_t frames_ = 0;
+  uint64_t delivered_ = 0;
+  uint64_t skipped_ = 0;
+  uint64_t divided_ = 0;
+  uint64_t timeouts_ = 0;
+  uint64_t device_lost_ = 0;
+  uint64_t reopen_attempts_ = 0;
+  uint64_t open_failures_ = 0;
+  uint64_t encode_errors_ = 0;
+  int frame_rate_divisor_ = 1;
+  double pending_target_bits_per_s_ = -1;  // < 0: no change requested
+  BitrateStats bitrate_stats_;
+  mutable RateMeter delivered_rate_;
+};
+
+}  // namespace mostar::camera

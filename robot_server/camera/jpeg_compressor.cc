@@ -1,0 +1,281 @@
+#include "robot_server/camera/jpeg_compressor.h"
+
+// jpeglib.h needs FILE and size_t declared first.
+#include <algorithm>
+#include <csetjmp>
+#include <cstdio>
+
+#include <jpeglib.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace mostar::camera {
+namespace {
+
+// libjpeg reports fatal errors through error_exit, which must not return: we longjmp back to
+// the setjmp in the calling function. Those functions keep only trivially destructible locals
+// between setjmp and any libjpeg call, so no destructor is skipped.
+struct ErrorManager {
+  jpeg_error_mgr base;
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+  int warnings;
+};
+
+void ErrorExit(j_common_ptr cinfo) {
+  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
+  (*cinfo->err->format_message)(cinfo, manager->message);
+  std::longjmp(manager->jump, 1);
+}
+
+// Warnings (level -1) are kept, not printed: the decoder treats them as errors.
+void EmitMessage(j_common_ptr cinfo, int level) {
+  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
+  if (level < 0) {
+    if (manager->warnings == 0) (*cinfo->err->format_message)(cinfo, manager->message);
+    ++manager->warnings;
+  }
+}
+
+void InitErrorManager(ErrorManager* manager) {
+  jpeg_std_error(&manager->base);
+  manager->base.error_exit = ErrorExit;
+  manager->base.emit_message = EmitMessage;
+  manager->message[0] = '\0';
+  manager->warnings = 0;
+}
+
+// Destination manager writing into a std::vector (grown by doubling; capacity reused).
+struct VectorDestination {
+  jpeg_destination_mgr base;
+  std::vector<uint8_t>* out;
+};
+
+void InitDestination(j_compress_ptr cinfo) {
+  auto* dest = reinterpret_cast<VectorDestination*>(cinfo->dest);
+  if (dest->out->size() < 64 * 1024) dest->out->resize(std::max<size_t>(64 * 1024, dest->out->capacity()));
+  dest->base.next_output_byte = dest->out->data();
+  dest->base.free_in_buffer = dest->out->size();
+}
+
+boolean EmptyOutputBuffer(j_compress_ptr cinfo) {
+  auto* dest = reinterpret_cast<VectorDestination*>(cinfo->dest);
+  const size_t used = dest->out->size();
+  dest->out->resize(used * 2);
+  dest->base.next_output_byte = dest->out->data() + used;
+  dest->base.free_in_buffer = dest->out->size() - used;
+  return TRUE;
+}
+
+void TermDestination(j_compress_ptr cinfo) {
+  auto* dest = reinterpret_cast<VectorDestination*>(cinfo->dest);
+  dest->out->resize(dest->out->size() - dest->base.free_in_buffer);
+}
+
+}  // namespace
+
+bool JpegSettings::IsValid(std::string* error) const {
+  if (quality < 1 || quality > 100) {
+    *error = "jpeg quality must be in 1..100, got " + std::to_string(quality);
+    return false;
+  }
+  if (!(scale > 0.0 && scale <= 1.0)) {
+    *error = "jpeg scale must be in (0, 1], got " + std::to_string(scale);
+    return false;
+  }
+  return true;
+}
+
+struct JpegEncoder::State {
+  jpeg_compress_struct cinfo;
+  ErrorManager error;
+  VectorDestination dest;
+};
+
+// The libjpeg part of JpegEncoder::Encode, alone in its function so that setjmp sees only
+// values that do not change after it.
+static bool RunCompress(JpegEncoder::State* state, const cv::Mat& source, int quality,
+                        std::vector<uint8_t>* out, std::string* error) {
+  jpeg_compress_struct* const cinfo = &state->cinfo;
+  state->dest.out = out;
+  state->error.warnings = 0;
+  if (setjmp(state->error.jump)) {
+    jpeg_abort_compress(cinfo);
+    *error = std::string("jpeg encode: ") + state->error.message;
+    out->clear();
+    return false;
+  }
+  cinfo->image_width = static_cast<JDIMENSION>(source.cols);
+  cinfo->image_height = static_cast<JDIMENSION>(source.rows);
+  cinfo->input_components = source.channels();
+  cinfo->in_color_space = source.channels() == 3 ? JCS_EXT_BGR : JCS_GRAYSCALE;
+  jpeg_set_defaults(cinfo);
+  jpeg_set_quality(cinfo, quality, TRUE);
+  jpeg_start_compress(cinfo, TRUE);
+  while (cinfo->next_scanline < cinfo->image_height) {
+    JSAMPROW row =
+        const_cast<JSAMPROW>(source.ptr<uint8_t>(static_cast<int>(cinfo->next_scanline)));
+    jpeg_write_scanlines(cinfo, &row, 1);
+  }
+  jpeg_finish_compress(cinfo);
+  return true;
+}
+
+JpegEncoder::JpegEncoder() : state_(std::make_unique<State>()) {
+  InitErrorManager(&state_->error);
+  state_->cinfo.err = &state_->error.base;
+  jpeg_create_compress(&state_->cinfo);
+  state_->dest.base.init_destination = InitDestination;
+  state_->dest.base.empty_output_buffer = EmptyOutputBuffer;
+  state_->dest.base.term_destination = TermDestination;
+  state_->dest.out = nullptr;
+  state_->cinfo.dest = &state_->dest.base;
+}
+
+JpegEncoder::~JpegEncoder() { jpeg_destroy_compress(&state_->cinfo); }
+
+bool JpegEncoder::Encode(const cv::Mat& bgr, const JpegSettings& settings,
+                         std::vector<uint8_t>* out, std::string* error) {
+  if (!settings.IsValid(error)) return false;
+  if (bgr.empty() || bgr.depth() != CV_8U || (bgr.channels() != 3 && bgr.channels() != 1)) {
+    *error = "jpeg encode: need a non-empty 8-bit BGR or grey image";
+    return false;
+  }
+  const cv::Mat* source = &bgr;
+  if (settings.scale < 1.0) {
+    const int width = std::max(1, static_cast<int>(bgr.cols * settings.scale + 0.5));
+    const int height = std::max(1, static_cast<int>(bgr.rows * settings.scale + 0.5));
+    cv::resize(bgr, scaled_, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+    source = &scaled_;
+  }
+  return RunCompress(state_.get(), *source, settings.quality, out, error);
+}
+
+struct JpegDecoder::State {
+  jpeg_decompress_struct cinfo;
+  ErrorManager error;
+};
+
+JpegDecoder::JpegDecoder() : state_(std::make_unique<State>()) {
+  InitErrorManager(&state_->error);
+  state_->cinfo.err = &state_->error.base;
+  jpeg_create_decompress(&state_->cinfo);
+}
+
+JpegDecoder::~JpegDecoder() { jpeg_destroy_decompress(&state_->cinfo); }
+
+bool JpegDecoder::Decode(const uint8_t* data, size_t size, cv::Mat* bgr, std::string* error) {
+  // Cheap structural checks first: SOI marker at the start.
+  if (data == nullptr || size < 4 || data[0] != 0xFF || data[1] != 0xD8) {
+    ++broken_;
+    *error = "broken jpeg: no start-of-image marker (" + std::to_string(size) + " bytes)";
+    return false;
+  }
+  jpeg_decompress_struct* cinfo = &state_->cinfo;
+  state_->error.warnings = 0;
+  state_->error.message[0] = '\0';
+  if (setjmp(state_->error.jump)) {
+    jpeg_abort_decompress(cinfo);
+    ++broken_;
+    *error = std::string("broken jpeg: ") + state_->error.message;
+    return false;
+  }
+  jpeg_mem_src(cinfo, data, static_cast<unsigned long>(size));
+  jpeg_read_header(cinfo, TRUE);
+  cinfo->out_color_space = JCS_EXT_BGR;
+  jpeg_start_decompress(cinfo);
+  bgr->create(static_cast<int>(cinfo->output_height), static_cast<int>(cinfo->output_width),
+              CV_8UC3);
+  while (cinfo->output_scanline < cinfo->output_height) {
+    JSAMPROW row = bgr->ptr<uint8_t>(static_cast<int>(cinfo->output_scanline));
+    jpeg_read_scanlines(cinfo, &row, 1);
+  }
+  jpeg_finish_decompress(cinfo);
+  if (state_->error.warnings > 0) {
+    ++broken_;
+    *error = std::string("broken jpeg: ") + state_->error.message;
+    return false;
+  }
+  ++decoded_;
+  return true;
+}
+
+JpegCompressor::JpegCompressor(bool parallel) : parallel_(parallel) {
+  if (parallel_) worker_ = std::thread([this] { WorkerLoop(); });
+}
+
+JpegCompressor::~JpegCompressor() {
+  if (worker_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    worker_.join();
+  }
+}
+
+void JpegCompressor::WorkerLoop() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    cv_.wait(lock, [this] { return stop_ || job_pending_; });
+    if (stop_) return;
+    job_pending_ = false;
+    const cv::Mat* image = job_image_;
+    const JpegSettings settings = job_settings_;
+    std::vector<uint8_t>* out = job_out_;
+    lock.unlock();
+    std::string error;
+    const bool ok = left_encoder_.Encode(*image, settings, out, &error);
+    lock.lock();
+    job_ok_ = ok;
+    job_error_ = error;
+    job_done_ = true;
+    cv_.notify_all();
+  }
+}
+
+bool JpegCompressor::Compress(const StereoImagePair& pair, const JpegSettings& settings,
+                              CompressedStereoPair* out, std::string* error) {
+  out->sequence = pair.sequence;
+  out->left.stamp = pair.stamp;
+  out->right.stamp = pair.stamp;
+  out->left.frame_id = "camera_left";
+  out->right.frame_id = "camera_right";
+  out->left.format = "jpeg";
+  out->right.format = "jpeg";
+  bool left_ok = false;
+  std::string left_error;
+  if (parallel_) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      job_image_ = &pair.left;
+      job_settings_ = settings;
+      job_out_ = &out->left.data;
+      job_done_ = false;
+      job_pending_ = true;
+    }
+    cv_.notify_all();
+  } else {
+    left_ok = left_encoder_.Encode(pair.left, settings, &out->left.data, &left_error);
+  }
+  std::string right_error;
+  const bool right_ok = right_encoder_.Encode(pair.right, settings, &out->right.data, &right_error);
+  if (parallel_) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait(lock, [this] { return job_done_; });
+    left_ok = job_ok_;
+    left_error = job_error_;
+  }
+  if (!left_ok) {
+    *error = "left eye: " + left_error;
+    return false;
+  }
+  if (!right_ok) {
+    *error = "right eye: " + right_error;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace mostar::camera

@@ -1,0 +1,118 @@
+#include "robot_server/drive/pilot_lease.h"
+
+#include <gtest/gtest.h>
+
+#include "common/time/fake_clock.h"
+
+namespace mostar::drive {
+namespace {
+
+ControlRequest Take(const std::string& id, int32_t claimed_strength = 0) {
+  ControlRequest r;
+  r.sender_id = id;
+  r.strength = claimed_strength;
+  r.take = true;
+  return r;
+}
+
+ControlRequest Release(const std::string& id) {
+  ControlRequest r = Take(id);
+  r.take = false;
+  return r;
+}
+
+class PilotLeaseTest : public ::testing::Test {
+ protected:
+  static RoleTable Roles() {
+    RoleTable roles;
+    roles.Set("alice", {Role::kPilot, 10});
+    roles.Set("bob", {Role::kPilot, 20});
+    roles.Set("carol", {Role::kPilot, 10});
+    roles.Set("olga", {Role::kObserver, 0});
+    return roles;
+  }
+  FakeClock clock_;
+  PilotLease lease_{clock_, Roles()};
+};
+
+TEST_F(PilotLeaseTest, NobodyHoldsAtStart) {
+  EXPECT_EQ(lease_.holder(), "");
+  EXPECT_EQ(lease_.lease().lease_sequence, 0u);
+  EXPECT_FALSE(lease_.IsHolder(""));
+}
+
+TEST_F(PilotLeaseTest, PilotTakesAFreeLease) {
+  clock_.Advance(std::chrono::seconds(1));
+  EXPECT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  const ControlLease l = lease_.lease();
+  EXPECT_EQ(l.holder_id, "alice");
+  EXPECT_EQ(l.holder_strength, 10);
+  EXPECT_EQ(l.since, clock_.Now());
+  EXPECT_EQ(l.lease_sequence, 1u);
+  // Asking again changes nothing.
+  EXPECT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  EXPECT_EQ(lease_.lease().lease_sequence, 1u);
+}
+
+TEST_F(PilotLeaseTest, ObserversAndUnknownClientsNeverDrive) {
+  EXPECT_EQ(lease_.HandleRequest(Take("olga", 1000)), LeaseDecision::kRefusedObserver);
+  EXPECT_EQ(lease_.HandleRequest(Take("mallory", 1000)), LeaseDecision::kRefusedObserver);
+  EXPECT_EQ(lease_.holder(), "");
+  EXPECT_EQ(lease_.stats().refused, 2u);
+}
+
+TEST_F(PilotLeaseTest, ClaimedStrengthIsIgnored) {
+  lease_.HandleRequest(Take("bob"));
+  EXPECT_EQ(lease_.HandleRequest(Take("alice", 1'000'000)), LeaseDecision::kRefusedHeld);
+  EXPECT_EQ(lease_.holder(), "bob");
+}
+
+TEST_F(PilotLeaseTest, StrongerPilotTakesOver) {
+  lease_.HandleRequest(Take("alice"));
+  EXPECT_EQ(lease_.HandleRequest(Take("bob")), LeaseDecision::kGranted);
+  EXPECT_EQ(lease_.holder(), "bob");
+  EXPECT_EQ(lease_.lease().holder_strength, 20);
+  EXPECT_EQ(lease_.lease().lease_sequence, 2u);
+  EXPECT_EQ(lease_.stats().takeovers, 1u);
+}
+
+TEST_F(PilotLeaseTest, EqualOrWeakerPilotIsRefused) {
+  lease_.HandleRequest(Take("alice"));
+  EXPECT_EQ(lease_.HandleRequest(Take("carol")), LeaseDecision::kRefusedHeld);
+  lease_.HandleRequest(Take("bob"));
+  EXPECT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kRefusedHeld);
+  EXPECT_EQ(lease_.holder(), "bob");
+}
+
+TEST_F(PilotLeaseTest, ExplicitReleaseFreesTheLeaseForAnyPilot) {
+  lease_.HandleRequest(Take("bob"));
+  EXPECT_EQ(lease_.HandleRequest(Release("alice")), LeaseDecision::kRefusedNotHolder);
+  EXPECT_EQ(lease_.holder(), "bob");
+  EXPECT_EQ(lease_.HandleRequest(Release("bob")), LeaseDecision::kReleased);
+  EXPECT_EQ(lease_.holder(), "");
+  EXPECT_EQ(lease_.lease().lease_sequence, 2u);
+  EXPECT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+}
+
+TEST_F(PilotLeaseTest, LostHolderMeansNobodyDrives) {
+  lease_.HandleRequest(Take("alice"));
+  EXPECT_FALSE(lease_.OnLivelinessLost("bob"));
+  EXPECT_EQ(lease_.holder(), "alice");
+  EXPECT_TRUE(lease_.OnLivelinessLost("alice"));
+  EXPECT_EQ(lease_.holder(), "");
+  EXPECT_EQ(lease_.lease().lease_sequence, 2u);
+  EXPECT_EQ(lease_.stats().holder_lost, 1u);
+}
+
+TEST_F(PilotLeaseTest, EstopAuthorisation) {
+  EXPECT_TRUE(lease_.MayEngageEstop("olga"));
+  EXPECT_TRUE(lease_.MayEngageEstop("alice"));
+  EXPECT_FALSE(lease_.MayEngageEstop("mallory"));
+  EXPECT_TRUE(lease_.MayReleaseEstop("alice", "olga"));
+  EXPECT_TRUE(lease_.MayReleaseEstop("olga", "olga"));
+  EXPECT_FALSE(lease_.MayReleaseEstop("olga", "alice"));
+  EXPECT_FALSE(lease_.MayReleaseEstop("mallory", "mallory"));
+}
+
+}  // namespace
+}  // namespace mostar::drive

@@ -1,0 +1,212 @@
+// The safety governor: decides, every control cycle, the base velocity sent to the motors.
+//
+// Inputs (any thread): velocity commands, the lease holder (from PilotLease), e-stop events,
+// link-loss events (DDS liveliness/deadline), laser scans. Output (control thread): `Update()`
+// once per cycle gives (v, w) and the watchdog state. All times come from the injected Clock.
+// docs/safety.md lists every rule with its default and its test. In short:
+// - Only the lease holder's commands count; others are rejected and counted.
+// - Commands must have strictly increasing sequence numbers (a sender restart, recognised by a
+//   lower sequence with a stamp newer than the last accepted one by more than the deadman
+//   period, starts a new sequence).
+// - Commands older than `max_command_age` are ignored. The age uses the sender's clock offset
+//   when known; otherwise the command's delay relative to the smallest delay seen from this
+//   sender over `delay_window` (a burst of commands queued during an outage shows up as a
+//   delay jump even without knowing the offset).
+// - Motion needs an armed pilot: a command with enable=false followed by one with
+//   enable=true. Needed at start (configurable), after a lease change, after a link loss and
+//   after an e-stop release.
+// - No accepted command for `deadman_period`: the target becomes zero and the output ramps
+//   down at the deceleration limits; if the pilot was armed this is a link loss and re-arming
+//   is required.
+// - Velocity, reverse and acceleration/deceleration limits.
+// - E-stop latches zero output at once (no ramp) until released.
+// - Forward speed is capped by the free distance along the path ahead (straight corridor or
+//   arc of the commanded curvature, robot width plus margin): zero at `stop_distance_m`, full
+//   at `slow_distance_m`, linear between. A missing or stale scan caps it at
+//   `unknown_scan_speed_factor` of the maximum. Reverse (unseen by the front laser) is limited
+//   by `max_reverse_mps` only; rotation in place is always allowed.
+// Thread-safe (one internal mutex).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/time/time.h"
+#include "common/types/commands.h"
+#include "common/types/health.h"
+#include "common/types/laser_scan.h"
+
+namespace mostar::drive {
+
+struct SafetyOptions {
+  // Limits. unit: m/s, rad/s, m/s^2, rad/s^2; all positive.
+  double max_linear_mps = 0.6;
+  double max_reverse_mps = 0.2;
+  double max_angular_radps = 1.0;
+  double max_linear_accel_mps2 = 0.5;
+  double max_linear_decel_mps2 = 1.0;
+  double max_angular_accel_radps2 = 1.5;
+  double max_angular_decel_radps2 = 3.0;
+
+  // Command freshness.
+  Duration deadman_period = std::chrono::milliseconds(250);
+  Duration max_command_age = std::chrono::milliseconds(300);
+  Duration delay_window = std::chrono::seconds(10);  // offset unknown: minimum-delay window
+  bool require_arm_at_start = true;
+
+  // Obstacles. Base frame = laser frame in x/y (base origin on the floor under the laser).
+  double robot_width_m = 0.60;
+  double lateral_margin_m = 0.05;  // added on each side of the corridor
+  double front_extent_m = 0.20;    // from the base origin forward to the front bumper
+  double stop_distance_m = 0.30;   // free space ahead of the bumper at which forward speed is 0
+  double slow_distance_m = 1.20;   // free space from which full forward speed is allowed
+  Duration scan_max_age = std::chrono::milliseconds(500);
+  double unknown_scan_speed_factor = 0.3;  // in [0, 1]
+
+  // A longer gap between two Update() calls is treated as this long (bounds one ramp step).
+  Duration max_cycle = std::chrono::milliseconds(100);
+
+  bool IsValid(std::string* error) const;
+};
+
+enum class CommandVerdict : uint8_t {
+  kAccepted = 0,
+  kRejectedNotHolder = 1,
+  kRejectedOutOfOrder = 2,
+  kRejectedStale = 3,
+  kRejectedInvalid = 4,  // NaN or infinite velocity
+};
+const char* CommandVerdictName(CommandVerdict verdict);
+
+struct SafetyCounters {
+  uint64_t accepted = 0;
+  uint64_t rejected_not_holder = 0;
+  uint64_t rejected_stale = 0;
+  uint64_t rejected_out_of_order = 0;
+  uint64_t rejected_invalid = 0;
+  uint64_t deadman_expiries = 0;  // while armed (link loss seen by the watchdog)
+  uint64_t link_losses = 0;       // OnLinkLost events for the holder
+  uint64_t estops = 0;            // engagements
+  uint64_t estop_refused = 0;     // unauthorised engage or release
+  uint64_t sender_restarts = 0;
+  uint64_t scans = 0;
+  std::vector<std::pair<std::string, uint64_t>> AsList() const;
+};
+
+// What one control cycle decided.
+struct GovernorOutput {
+  double linear_mps = 0;  // send these to the motors
+  double angular_radps = 0;
+  WatchdogState state = WatchdogState::kIdle;
+  double forward_limit_mps = 0;  // obstacle cap on forward speed this cycle
+  // Free distance ahead of the bumper along the target path; +inf when clear, NaN when the
+  // scan is missing or stale or when not driving forward.
+  double free_distance_m = 0;
+  bool scan_fresh = false;
+};
+
+struct SafetyStatus {
+  WatchdogState state = WatchdogState::kIdle;
+  std::string holder_id;
+  bool armed = false;
+  bool estop_engaged = false;
+  std::string estop_engaged_by;
+  float last_command_age_s = -1;  // since the last accepted command arrived; -1 never
+  uint64_t last_command_sequence = 0;
+  SafetyCounters counters;
+};
+
+class SafetyGovernor {
+ public:
+  SafetyGovernor(const Clock& clock, const SafetyOptions& options);
+
+  // Sets who may drive (PilotLease::holder()); "" = nobody. A change disarms and clears the
+  // command history; the output ramps down.
+  void SetLeaseHolder(const std::string& holder_id);
+
+  // A velocity command as received. `robot_minus_sender`: the sender's clock offset
+  // (robot clock minus sender clock) when known.
+  CommandVerdict HandleCommand(const VelocityCommand& command,
+                               std::optional<Duration> robot_minus_sender = std::nullopt);
+
+  // E-stop event. `authorised` comes from PilotLease::MayEngageEstop / MayReleaseEstop.
+  // Returns false (and counts) when refused.
+  bool HandleEmergencyStop(const EmergencyStop& estop, bool authorised);
+
+  // The client's DDS liveliness or command deadline was lost. Acts like an immediate deadman
+  // expiry when it is the holder.
+  void OnLinkLost(const std::string& client_id);
+
+  // The latest scan (laser frame; stamp on the robot's wall clock).
+  void SetLaserScan(const LaserScan& scan);
+
+  // One control cycle: call at a steady rate (e.g. 50 Hz) and send the result to the motors.
+  GovernorOutput Update();
+
+  SafetyStatus status() const;
+  // "drive_safety": kOk while idle or driving with a fresh scan, kWarn otherwise.
+  DeviceHealth Health() const;
+  // Sets watchdog_state, last_command_age_s, last_command_sequence, estop_engaged,
+  // lease_holder.
+  void FillRobotHealth(RobotHealth* health) const;
+
+ private:
+  struct DelaySample {
+    SteadyTime arrival;
+    int64_t apparent_ns;
+  };
+  struct Point {
+    double x_m;
+    double y_m;
+  };
+
+  void DisarmLocked();
+  void LinkLostLocked();
+  bool IsStaleLocked(const VelocityCommand& command, std::optional<Duration> offset,
+                     SteadyTime now_steady, Time now);
+  double FreeDistanceLocked(double linear_mps, double angular_radps) const;
+  WatchdogState StateLocked(SteadyTime now) const;
+
+  const Clock& clock_;
+  const SafetyOptions options_;
+  mutable std::mutex mutex_;
+
+  std::string holder_id_;
+  // Command stream of the holder.
+  bool have_command_ = false;
+  uint64_t last_sequence_ = 0;
+  Time last_stamp_;
+  SteadyTime last_arrival_;
+  bool command_fresh_ = false;      // an accepted command within the deadman period
+  std::deque<DelaySample> delays_;  // increasing apparent delay (sliding-window minimum)
+
+  // Arming.
+  bool armed_ = false;
+  bool ready_to_arm_ = false;    // saw enable=false since the last disarm
+  bool rearm_required_ = false;  // after link loss or e-stop release (state kWaitRearm)
+  double target_linear_mps_ = 0;
+  double target_angular_radps_ = 0;
+
+  bool estop_ = false;
+  std::string estop_engaged_by_;
+
+  // Scan.
+  std::vector<Point> scan_points_;
+  Time scan_stamp_;
+  bool have_scan_ = false;
+  bool last_scan_fresh_ = false;
+
+  // Output.
+  double output_linear_mps_ = 0;
+  double output_angular_radps_ = 0;
+  std::optional<SteadyTime> last_update_;
+
+  SafetyCounters counters_;
+};
+
+}  // namespace mostar::drive

@@ -1,0 +1,392 @@
+#include "robot_server/drive/safety_governor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "common/time/fake_clock.h"
+
+namespace mostar::drive {
+namespace {
+
+using std::chrono::milliseconds;
+
+constexpr Duration kCycle = milliseconds(20);
+constexpr float kInfRange = std::numeric_limits<float>::infinity();
+
+// An LMS200-like scan (-90..+90 deg, 1 deg) of the given points (x, y) in the laser frame;
+// other beams see nothing.
+LaserScan ScanOf(Time stamp, const std::vector<std::pair<double, double>>& points) {
+  LaserScan scan;
+  scan.stamp = stamp;
+  scan.angle_min_rad = static_cast<float>(-M_PI / 2);
+  scan.angle_increment_rad = static_cast<float>(M_PI / 180);
+  scan.range_min_m = 0.05f;
+  scan.range_max_m = 30.f;
+  scan.ranges_m.assign(181, kInfRange);
+  for (const auto& [x, y] : points) {
+    const long i = std::lround((std::atan2(y, x) + M_PI / 2) / (M_PI / 180));
+    const float r = static_cast<float>(std::hypot(x, y));
+    scan.ranges_m[static_cast<size_t>(i)] = std::min(scan.ranges_m[static_cast<size_t>(i)], r);
+  }
+  return scan;
+}
+
+// A wall across the path at x = `x_m`, from y = -2 to 2 m.
+LaserScan WallAt(Time stamp, double x_m) {
+  std::vector<std::pair<double, double>> points;
+  for (double y = -2.0; y <= 2.0; y += 0.01) points.emplace_back(x_m, y);
+  return ScanOf(stamp, points);
+}
+
+class SafetyGovernorTest : public ::testing::Test {
+ protected:
+  SafetyGovernorTest() { governor_.SetLeaseHolder("alice"); }
+
+  // A command from `sender` stamped now on the sender's clock (sender = robot - offset).
+  VelocityCommand Command(double v, double w, bool enable, const std::string& sender = "alice") {
+    VelocityCommand c;
+    c.stamp = clock_.Now() - sender_offset_;
+    c.sequence = ++sequence_;
+    c.sender_id = sender;
+    c.linear_mps = v;
+    c.angular_radps = w;
+    c.enable = enable;
+    return c;
+  }
+  CommandVerdict Send(double v, double w, bool enable = true) {
+    return governor_.HandleCommand(Command(v, w, enable), known_offset_);
+  }
+  void Arm() {
+    ASSERT_EQ(Send(0, 0, false), CommandVerdict::kAccepted);
+    ASSERT_EQ(Send(0, 0, true), CommandVerdict::kAccepted);
+  }
+  // One control cycle: time passes, a clear scan arrives, the governor decides.
+  GovernorOutput Cycle(bool with_clear_scan = true) {
+    clock_.Advance(kCycle);
+    if (with_clear_scan) governor_.SetLaserScan(ScanOf(clock_.Now(), {}));
+    return governor_.Update();
+  }
+  // Drives with the pilot sending (v, w) every cycle for `cycles`; returns the last output.
+  GovernorOutput Drive(double v, double w, int cycles, const LaserScan* scan = nullptr) {
+    GovernorOutput out;
+    for (int i = 0; i < cycles; ++i) {
+      Send(v, w);
+      clock_.Advance(kCycle);
+      if (scan) {
+        LaserScan fresh = *scan;
+        fresh.stamp = clock_.Now();
+        governor_.SetLaserScan(fresh);
+      } else {
+        governor_.SetLaserScan(ScanOf(clock_.Now(), {}));
+      }
+      out = governor_.Update();
+    }
+    return out;
+  }
+
+  FakeClock clock_;
+  SafetyOptions options_;
+  SafetyGovernor governor_{clock_, options_};
+  uint64_t sequence_ = 0;
+  Duration sender_offset_{0};
+  std::optional<Duration> known_offset_ = Duration::zero();
+};
+
+TEST_F(SafetyGovernorTest, OptionsAreValidAndValidationNamesTheField) {
+  std::string error;
+  EXPECT_TRUE(options_.IsValid(&error)) << error;
+  SafetyOptions bad;
+  bad.slow_distance_m = 0.1;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("slow_distance_m"), std::string::npos);
+}
+
+TEST_F(SafetyGovernorTest, DoesNotMoveUntilArmed) {
+  EXPECT_EQ(Drive(0.5, 0, 10).linear_mps, 0.0);
+  EXPECT_EQ(governor_.status().state, WatchdogState::kIdle);
+  Arm();
+  const GovernorOutput out = Drive(0.5, 0, 10);
+  EXPECT_GT(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kDriving);
+}
+
+TEST_F(SafetyGovernorTest, RampsUpAtTheAccelerationLimitAndClampsVelocity) {
+  Arm();
+  Cycle();  // first cycle has no previous one: no step
+  GovernorOutput out = Drive(5.0, 9.0, 10);
+  EXPECT_NEAR(out.linear_mps, 10 * 0.02 * options_.max_linear_accel_mps2, 1e-9);
+  EXPECT_NEAR(out.angular_radps, 10 * 0.02 * options_.max_angular_accel_radps2, 1e-9);
+  out = Drive(5.0, 9.0, 200);
+  EXPECT_NEAR(out.linear_mps, options_.max_linear_mps, 1e-9);
+  out = Drive(-5.0, 0, 200);
+  EXPECT_NEAR(out.linear_mps, -options_.max_reverse_mps, 1e-9);
+}
+
+TEST_F(SafetyGovernorTest, DeadmanRampsToZeroWithinPeriodPlusOneCycle) {
+  Arm();
+  Cycle();
+  ASSERT_NEAR(Drive(0.5, 0, 100).linear_mps, 0.5, 1e-9);
+  Send(0.5, 0);
+  // The pilot goes silent. Until the deadman period has passed, the robot keeps going.
+  const SteadyTime silent_since = clock_.SteadyNow();
+  GovernorOutput out;
+  while (clock_.SteadyNow() - silent_since + kCycle <= options_.deadman_period) {
+    out = Cycle();
+    EXPECT_NEAR(out.linear_mps, 0.5, 1e-9);
+  }
+  // Within one more cycle past the period, the ramp down has started.
+  out = Cycle();
+  EXPECT_NEAR(out.linear_mps, 0.5 - options_.max_linear_decel_mps2 * ToSeconds(kCycle), 1e-9);
+  EXPECT_EQ(out.state, WatchdogState::kStopping);
+  EXPECT_EQ(governor_.status().counters.deadman_expiries, 1u);
+  // And zero is reached after v / decel (+ one cycle).
+  const Duration ramp = FromSeconds(0.5 / options_.max_linear_decel_mps2);
+  while (clock_.SteadyNow() - silent_since <= options_.deadman_period + ramp + kCycle) {
+    out = Cycle();
+  }
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+}
+
+TEST_F(SafetyGovernorTest, PilotMustRearmAfterALinkLoss) {
+  Arm();
+  Drive(0.3, 0, 20);
+  for (int i = 0; i < 60; ++i) Cycle();  // 1.2 s of silence
+  ASSERT_EQ(governor_.status().state, WatchdogState::kWaitRearm);
+  // Commands come back with enable=true: not enough.
+  GovernorOutput out = Drive(0.3, 0, 20);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+  Arm();
+  out = Drive(0.3, 0, 20);
+  EXPECT_GT(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kDriving);
+}
+
+TEST_F(SafetyGovernorTest, LinkLossEventStopsAtOnceAndRequiresRearm) {
+  Arm();
+  Drive(0.3, 0, 20);
+  governor_.OnLinkLost("bob");  // not the holder: ignored
+  EXPECT_EQ(governor_.status().counters.link_losses, 0u);
+  governor_.OnLinkLost("alice");
+  EXPECT_EQ(governor_.status().counters.link_losses, 1u);
+  const GovernorOutput out = Drive(0.3, 0, 100);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+}
+
+TEST_F(SafetyGovernorTest, IgnoresStaleCommandsWithAKnownOffset) {
+  sender_offset_ = std::chrono::seconds(5);  // the sender's clock is 5 s behind
+  known_offset_ = sender_offset_;
+  Arm();
+  VelocityCommand old = Command(0.5, 0, true);
+  old.stamp -= milliseconds(400);
+  EXPECT_EQ(governor_.HandleCommand(old, known_offset_), CommandVerdict::kRejectedStale);
+  VelocityCommand future = Command(0.5, 0, true);
+  future.stamp += milliseconds(400);
+  EXPECT_EQ(governor_.HandleCommand(future, known_offset_), CommandVerdict::kRejectedStale);
+  EXPECT_EQ(Send(0.5, 0), CommandVerdict::kAccepted);
+  EXPECT_EQ(governor_.status().counters.rejected_stale, 2u);
+}
+
+TEST_F(SafetyGovernorTest, IgnoresAStaleBurstAfterAnOutageWithoutAnOffset) {
+  sender_offset_ = std::chrono::seconds(1000);  // unrelated clocks
+  known_offset_.reset();
+  const Duration network_delay = milliseconds(15);
+  // Commands are created, then delivered `network_delay` later.
+  auto deliver = [&](const VelocityCommand& c) { return governor_.HandleCommand(c); };
+  std::vector<VelocityCommand> queued;
+  for (int i = 0; i < 20; ++i) {
+    const VelocityCommand c = Command(0.2, 0, i > 0);
+    clock_.Advance(network_delay);
+    EXPECT_EQ(deliver(c), CommandVerdict::kAccepted);
+    clock_.Advance(milliseconds(35));
+    governor_.Update();
+  }
+  // Outage: 2 s of commands are queued by the transport, then flushed at once.
+  for (int i = 0; i < 40; ++i) {
+    queued.push_back(Command(0.2, 0, true));
+    clock_.Advance(milliseconds(50));
+  }
+  int accepted = 0;
+  for (const VelocityCommand& c : queued) accepted += deliver(c) == CommandVerdict::kAccepted;
+  // Only the commands younger than max_command_age (300 ms) pass: the last 6 of 50 ms each.
+  EXPECT_LE(accepted, 7);
+  EXPECT_GE(governor_.status().counters.rejected_stale, 33u);
+}
+
+TEST_F(SafetyGovernorTest, IgnoresOutOfOrderCommands) {
+  Arm();
+  VelocityCommand c = Command(0.2, 0, true);
+  c.sequence = 50;
+  EXPECT_EQ(governor_.HandleCommand(c, known_offset_), CommandVerdict::kAccepted);
+  c.sequence = 49;
+  EXPECT_EQ(governor_.HandleCommand(c, known_offset_), CommandVerdict::kRejectedOutOfOrder);
+  c.sequence = 50;
+  EXPECT_EQ(governor_.HandleCommand(c, known_offset_), CommandVerdict::kRejectedOutOfOrder);
+  EXPECT_EQ(governor_.status().counters.rejected_out_of_order, 2u);
+  EXPECT_EQ(governor_.status().last_command_sequence, 50u);
+}
+
+TEST_F(SafetyGovernorTest, AcceptsASenderRestartWithANewerStamp) {
+  VelocityCommand c = Command(0, 0, false);
+  c.sequence = 1000;
+  governor_.HandleCommand(c, known_offset_);
+  clock_.Advance(std::chrono::seconds(1));
+  VelocityCommand restarted = Command(0, 0, false);
+  restarted.sequence = 1;
+  EXPECT_EQ(governor_.HandleCommand(restarted, known_offset_), CommandVerdict::kAccepted);
+  EXPECT_EQ(governor_.status().counters.sender_restarts, 1u);
+}
+
+TEST_F(SafetyGovernorTest, IgnoresCommandsFromAnyoneButTheHolder) {
+  Arm();
+  EXPECT_EQ(governor_.HandleCommand(Command(0.5, 0, true, "bob"), known_offset_),
+            CommandVerdict::kRejectedNotHolder);
+  EXPECT_EQ(governor_.status().counters.rejected_not_holder, 1u);
+  governor_.SetLeaseHolder("");
+  EXPECT_EQ(Send(0.5, 0), CommandVerdict::kRejectedNotHolder);
+}
+
+TEST_F(SafetyGovernorTest, LeaseChangeDisarms) {
+  Arm();
+  Drive(0.3, 0, 20);
+  governor_.SetLeaseHolder("bob");
+  GovernorOutput out;
+  for (int i = 0; i < 50; ++i) {
+    governor_.HandleCommand(Command(0.3, 0, true, "bob"), known_offset_);
+    out = Cycle();
+  }
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_FALSE(governor_.status().armed);
+}
+
+TEST_F(SafetyGovernorTest, RejectsNonFiniteVelocities) {
+  Arm();
+  EXPECT_EQ(Send(std::nan(""), 0), CommandVerdict::kRejectedInvalid);
+  EXPECT_EQ(Send(0, std::numeric_limits<double>::infinity()), CommandVerdict::kRejectedInvalid);
+  EXPECT_EQ(governor_.status().counters.rejected_invalid, 2u);
+}
+
+TEST_F(SafetyGovernorTest, EstopLatchesZeroUntilReleasedAndRearmed) {
+  Arm();
+  ASSERT_GT(Drive(0.4, 0.2, 30).linear_mps, 0.0);
+  EmergencyStop estop;
+  estop.sender_id = "olga";
+  EXPECT_FALSE(governor_.HandleEmergencyStop(estop, /*authorised=*/false));
+  EXPECT_EQ(governor_.status().counters.estop_refused, 1u);
+  EXPECT_TRUE(governor_.HandleEmergencyStop(estop, true));
+  GovernorOutput out = Cycle();
+  EXPECT_EQ(out.linear_mps, 0.0);  // no ramp
+  EXPECT_EQ(out.angular_radps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kEstop);
+  Arm();  // re-arming during an e-stop does nothing
+  out = Drive(0.4, 0, 30);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(governor_.status().estop_engaged_by, "olga");
+  estop.engage = false;
+  EXPECT_TRUE(governor_.HandleEmergencyStop(estop, true));
+  out = Drive(0.4, 0, 10);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+  Arm();
+  EXPECT_GT(Drive(0.4, 0, 10).linear_mps, 0.0);
+  EXPECT_EQ(governor_.status().counters.estops, 1u);
+}
+
+TEST_F(SafetyGovernorTest, SlowsDownNearAnObstacleAhead) {
+  Arm();
+  // Bumper at 0.2 m; wall 0.75 m ahead of it: halfway between stop (0.3) and slow (1.2).
+  const LaserScan wall = WallAt(clock_.Now(), 0.95);
+  const GovernorOutput out = Drive(0.6, 0, 200, &wall);
+  // (Beams are 1 degree apart: the nearest wall point seen is within a few mm of the truth.)
+  EXPECT_NEAR(out.free_distance_m, 0.75, 0.01);
+  EXPECT_NEAR(out.forward_limit_mps, 0.3, 0.01);
+  EXPECT_NEAR(out.linear_mps, out.forward_limit_mps, 1e-9);
+}
+
+TEST_F(SafetyGovernorTest, StopsAtTheStopDistanceButAllowsReverseAndRotation) {
+  Arm();
+  const LaserScan wall = WallAt(clock_.Now(), 0.45);  // 0.25 m free: inside stop distance
+  GovernorOutput out = Drive(0.6, 0, 100, &wall);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.forward_limit_mps, 0.0);
+  out = Drive(-0.15, 0, 100, &wall);
+  EXPECT_NEAR(out.linear_mps, -0.15, 1e-9);
+  out = Drive(0.0, 0.8, 100, &wall);
+  EXPECT_NEAR(out.angular_radps, 0.8, 1e-9);
+  // Forward and turning: forward speed stays zero, the turn is allowed.
+  out = Drive(0.5, 0.8, 100, &wall);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_NEAR(out.angular_radps, 0.8, 1e-9);
+}
+
+TEST_F(SafetyGovernorTest, ObstaclesBesideTheCorridorDoNotSlowStraightMotion) {
+  Arm();
+  // 0.6 m wide robot + 5 cm margins: corridor |y| <= 0.35 m.
+  const LaserScan poles = ScanOf(clock_.Now(), {{0.6, 0.5}, {0.8, -0.45}, {3.0, 0.36}});
+  const GovernorOutput out = Drive(0.6, 0, 100, &poles);
+  EXPECT_EQ(out.forward_limit_mps, options_.max_linear_mps);
+  EXPECT_NEAR(out.linear_mps, 0.6, 1e-9);
+}
+
+TEST_F(SafetyGovernorTest, TurningPathSeesAnObstacleOnTheArc) {
+  Arm();
+  // A pole at (0.6, 0.6): outside the straight corridor, on the arc of radius 0.6 m to the left.
+  const LaserScan pole = ScanOf(clock_.Now(), {{0.6, 0.6}});
+  GovernorOutput out = Drive(0.3, 0.0, 5, &pole);
+  EXPECT_EQ(out.forward_limit_mps, options_.max_linear_mps);
+  out = Drive(0.3, 0.5, 5, &pole);
+  // Quarter circle of 0.6 m radius, minus the bumper: 0.742 m free.
+  EXPECT_NEAR(out.free_distance_m, M_PI / 2 * 0.6 - 0.2, 0.02);
+  EXPECT_LT(out.forward_limit_mps, 0.6 * 0.5 + 0.05);
+  // Turning right, away from it: clear.
+  out = Drive(0.3, -0.5, 5, &pole);
+  EXPECT_EQ(out.forward_limit_mps, options_.max_linear_mps);
+}
+
+TEST_F(SafetyGovernorTest, MissingOrStaleScanCapsForwardSpeed) {
+  Arm();
+  GovernorOutput out;
+  for (int i = 0; i < 200; ++i) {
+    Send(0.6, 0);
+    out = Cycle(/*with_clear_scan=*/false);
+  }
+  EXPECT_FALSE(out.scan_fresh);
+  EXPECT_NEAR(out.linear_mps, options_.unknown_scan_speed_factor * options_.max_linear_mps, 1e-9);
+  governor_.SetLaserScan(ScanOf(clock_.Now() - milliseconds(600), {}));
+  Send(0.6, 0);
+  clock_.Advance(kCycle);
+  out = governor_.Update();
+  EXPECT_FALSE(out.scan_fresh);
+  EXPECT_EQ(governor_.Health().state, DeviceState::kWarn);
+}
+
+TEST_F(SafetyGovernorTest, HealthSummaryCarriesStateAndCounters) {
+  Arm();
+  Drive(0.2, 0, 5);
+  governor_.HandleCommand(Command(0.5, 0, true, "bob"), known_offset_);
+  const DeviceHealth health = governor_.Health();
+  EXPECT_EQ(health.name, "drive_safety");
+  EXPECT_EQ(health.state, DeviceState::kOk);
+  EXPECT_NE(health.message.find("alice"), std::string::npos);
+  bool found = false;
+  for (const auto& [name, value] : health.counters) {
+    if (name == "rejected_not_holder") {
+      found = true;
+      EXPECT_EQ(value, 1u);
+    }
+  }
+  EXPECT_TRUE(found);
+  RobotHealth robot;
+  governor_.FillRobotHealth(&robot);
+  EXPECT_EQ(robot.lease_holder, "alice");
+  EXPECT_EQ(robot.watchdog_state, WatchdogState::kDriving);
+  EXPECT_GE(robot.last_command_age_s, 0.f);
+  EXPECT_EQ(robot.last_command_sequence, sequence_ - 1);
+}
+
+}  // namespace
+}  // namespace mostar::drive

@@ -1,0 +1,193 @@
+// SerialDriveMotors against a board emulator on a pseudo-terminal (real serial I/O, threads,
+// the system clock). Waits are bounded polls on observable state, never fixed sleeps.
+#include "robot_server/drive/serial_drive_motors.h"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+namespace mostar::drive {
+namespace {
+
+// Polls `condition` until it holds or 3 s pass.
+bool WaitFor(const std::function<bool()>& condition) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return condition();
+}
+
+// The board side: answers each SetVelocity and Heartbeat with line noise, an encoder report
+// and a status frame.
+class BoardEmulator {
+ public:
+  BoardEmulator() {
+    master_ = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master_ < 0 || grantpt(master_) != 0 || unlockpt(master_) != 0) return;
+    termios tio{};
+    tcgetattr(master_, &tio);
+    cfmakeraw(&tio);
+    tcsetattr(master_, TCSANOW, &tio);
+    slave_name_ = ptsname(master_);
+    thread_ = std::thread([this] { Run(); });
+  }
+  ~BoardEmulator() {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+    if (master_ >= 0) close(master_);
+  }
+  const std::string& slave_name() const { return slave_name_; }
+
+  std::optional<SetVelocityMsg> last_set_velocity() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_set_velocity_;
+  }
+  int stops() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stops_;
+  }
+  void set_fault(uint16_t flags) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fault_flags_ = flags;
+  }
+
+ private:
+  void Send(const MotorMessage& m) {
+    const std::vector<uint8_t> bytes = EncodeMessage(m);
+    const uint8_t noise[] = {0x00, 0xAA, 0x13};
+    ssize_t ignored = write(master_, noise, sizeof(noise));
+    ignored = write(master_, bytes.data(), bytes.size());
+    (void)ignored;
+  }
+  void Run() {
+    MotorFrameDecoder decoder;
+    while (running_) {
+      pollfd pfd{master_, POLLIN, 0};
+      if (poll(&pfd, 1, 10) <= 0 || !(pfd.revents & POLLIN)) continue;
+      uint8_t buf[256];
+      const ssize_t n = read(master_, buf, sizeof(buf));
+      if (n <= 0) continue;
+      decoder.Push(buf, static_cast<size_t>(n));
+      while (auto frame = decoder.Next()) {
+        MotorMessage m;
+        std::string error;
+        if (!DecodeMessage(*frame, &m, &error)) continue;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (const auto* v = std::get_if<SetVelocityMsg>(&m)) {
+          last_set_velocity_ = *v;
+          left_ += static_cast<uint32_t>(v->left_ticks_per_s / 10);
+          right_ += static_cast<uint32_t>(v->right_ticks_per_s / 10);
+        } else if (std::get_if<StopMsg>(&m)) {
+          ++stops_;
+        }
+        Send(EncoderReportMsg{++board_time_us_, left_, right_});
+        StatusMsg status;
+        status.state = fault_flags_ ? BoardState::kFault : BoardState::kDriving;
+        status.fault_flags = fault_flags_;
+        status.battery_mv = 24100;
+        Send(status);
+        if (const auto* h = std::get_if<HeartbeatMsg>(&m)) Send(*h);
+      }
+    }
+  }
+
+  int master_ = -1;
+  std::string slave_name_;
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+  mutable std::mutex mutex_;
+  std::optional<SetVelocityMsg> last_set_velocity_;
+  int stops_ = 0;
+  uint16_t fault_flags_ = 0;
+  uint32_t board_time_us_ = 0;
+  uint32_t left_ = 0xFFF0;  // near the 16-bit wrap
+  uint32_t right_ = 5;
+};
+
+SerialDriveMotorsOptions OptionsFor(const std::string& port) {
+  SerialDriveMotorsOptions o;
+  o.port = port;
+  o.wheel_radius_m = 0.1;
+  o.ticks_per_turn = 500;
+  o.track_width_m = 0.5;
+  o.link_timeout = std::chrono::seconds(2);
+  return o;
+}
+
+TEST(SerialDriveMotorsTest, RefusesAMissingPortWithAMessage) {
+  std::string error;
+  SerialDriveMotorsOptions o = OptionsFor("/dev/nonexistent-mostar-port");
+  EXPECT_EQ(SerialDriveMotors::Open(SystemClock::Instance(), o, &error), nullptr);
+  EXPECT_NE(error.find("nonexistent-mostar-port"), std::string::npos);
+  o.baud = 12345;
+  EXPECT_EQ(SerialDriveMotors::Open(SystemClock::Instance(), o, &error), nullptr);
+  EXPECT_NE(error.find("baud"), std::string::npos);
+}
+
+TEST(SerialDriveMotorsTest, TalksToTheBoardOverAPty) {
+  BoardEmulator board;
+  ASSERT_FALSE(board.slave_name().empty());
+  std::string error;
+  auto motors =
+      SerialDriveMotors::Open(SystemClock::Instance(), OptionsFor(board.slave_name()), &error);
+  ASSERT_NE(motors, nullptr) << error;
+
+  EncoderReading reading;
+  EXPECT_FALSE(motors->ReadEncoders(&reading, &error));  // nothing heard yet
+
+  // 0.1 m/s forward, 0.4 rad/s: wheels 0.0 and 0.2 m/s; 795.8 ticks per metre.
+  ASSERT_TRUE(motors->SetVelocity(0.1, 0.4, &error)) << error;
+  ASSERT_TRUE(WaitFor([&] { return board.last_set_velocity().has_value(); }));
+  EXPECT_EQ(board.last_set_velocity()->left_ticks_per_s, 0);
+  EXPECT_EQ(board.last_set_velocity()->right_ticks_per_s, 159);
+
+  ASSERT_TRUE(WaitFor([&] { return motors->ReadEncoders(&reading, &error); })) << error;
+  EXPECT_EQ(reading.left_count, 0xFFF0u);
+  EXPECT_EQ(reading.right_count, 5u + 15u);
+  EXPECT_EQ(motors->counter_bits(), 16);
+
+  ASSERT_TRUE(WaitFor([&] { return motors->Status().link_ok; }));
+  EXPECT_FALSE(motors->Status().fault);
+  EXPECT_NEAR(motors->Status().battery_v, 24.1, 1e-9);
+  // The emulator's line noise was skipped, no frame lost.
+  EXPECT_GT(motors->decoder_stats().discarded_bytes, 0u);
+
+  board.set_fault(kFaultOvercurrentLeft);
+  ASSERT_TRUE(motors->SendHeartbeat(&error));
+  ASSERT_TRUE(WaitFor([&] { return motors->Status().fault; }));
+  EXPECT_EQ(motors->Status().fault_flags, kFaultOvercurrentLeft);
+
+  ASSERT_TRUE(motors->Stop(&error, /*clear_faults=*/true));
+  ASSERT_TRUE(WaitFor([&] { return board.stops() == 1; }));
+  // Closing sends one more stop.
+  motors.reset();
+  EXPECT_TRUE(WaitFor([&] { return board.stops() == 2; }));
+}
+
+TEST(SerialDriveMotorsTest, ClampsSetPointsToTheWheelSpeedLimit) {
+  BoardEmulator board;
+  std::string error;
+  SerialDriveMotorsOptions o = OptionsFor(board.slave_name());
+  o.max_wheel_speed_mps = 1.0;
+  auto motors = SerialDriveMotors::Open(SystemClock::Instance(), o, &error);
+  ASSERT_NE(motors, nullptr) << error;
+  ASSERT_TRUE(motors->SetWheelVelocities({5.0, -5.0}, &error));
+  ASSERT_TRUE(WaitFor([&] { return board.last_set_velocity().has_value(); }));
+  EXPECT_EQ(board.last_set_velocity()->left_ticks_per_s, 796);
+  EXPECT_EQ(board.last_set_velocity()->right_ticks_per_s, -796);
+  EXPECT_FALSE(motors->SetWheelVelocities({std::nan(""), 0}, &error));
+}
+
+}  // namespace
+}  // namespace mostar::drive

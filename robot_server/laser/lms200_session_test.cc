@@ -1,0 +1,213 @@
+#include "robot_server/laser/lms200_session.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "common/time/fake_clock.h"
+#include "robot_server/laser/fake_byte_stream.h"
+
+namespace mostar::laser {
+namespace {
+
+using Bytes = std::vector<uint8_t>;
+
+uint64_t Counter(const DeviceHealth& health, const std::string& name) {
+  uint64_t total = 0;
+  for (const auto& c : health.counters) {
+    if (c.first == name) total += c.second;
+  }
+  return total;
+}
+
+Bytes Reply(const Bytes& payload) { return BuildReplyTelegram(0x80, payload); }
+
+Bytes ScanTelegram(uint16_t range_mm) {
+  Bytes payload{0xB0, 181 & 0xFF, static_cast<uint8_t>((181 >> 8) | 0x40)};
+  for (int i = 0; i < 181; ++i) {
+    payload.push_back(static_cast<uint8_t>(range_mm & 0xFF));
+    payload.push_back(static_cast<uint8_t>(range_mm >> 8));
+  }
+  payload.push_back(0x10);
+  return Reply(payload);
+}
+
+// A minimal scripted LMS200 at a fixed baud: answers the start-up requests and, on
+// "start continuous", queues `scans_per_start` scans and then falls silent.
+class ScriptedDevice {
+ public:
+  ScriptedDevice(FakeByteStream* stream, int device_baud) : device_baud_(device_baud) {
+    stream->set_on_write([this](const Bytes& w, FakeByteStream* s) { OnWrite(w, s); });
+  }
+  int scans_per_start = 5;
+  int nak_first = 0;  // answer the first n requests with NAK
+  int starts = 0;
+  int config_writes = 0;
+  std::vector<uint8_t> commands;
+
+ private:
+  void OnWrite(const Bytes& w, FakeByteStream* s) {
+    if (s->baud_rate() != device_baud_ || w.size() < 5) return;  // wrong rate: garbage
+    if (nak_first > 0) {
+      --nak_first;
+      s->QueueInput({kLms200Nak});
+      return;
+    }
+    const uint8_t cmd = w[4];
+    commands.push_back(cmd);
+    Bytes out{kLms200Ack};
+    Bytes reply;
+    if (cmd == 0x20 && w[5] == 0x24) {
+      ++starts;
+      reply = Reply({0xA0, 0x00, 0x10});
+      out.insert(out.end(), reply.begin(), reply.end());
+      for (int i = 0; i < scans_per_start; ++i) {
+        const Bytes scan = ScanTelegram(static_cast<uint16_t>(1000 + i));
+        out.insert(out.end(), scan.begin(), scan.end());
+      }
+      s->QueueInput(out);
+      return;
+    }
+    if (cmd == 0x20) {
+      reply = Reply({0xA0, 0x00, 0x10});
+    } else if (cmd == 0x3A) {
+      reply = Reply({0xBA, 'L', 'M', 'S', '2', '0', '0', 0x10});
+    } else if (cmd == 0x74) {
+      Bytes p{0xF4};
+      Bytes block(34, 0);
+      block[6] = 0x01;  // mm
+      p.insert(p.end(), block.begin(), block.end());
+      p.push_back(0x10);
+      reply = Reply(p);
+    } else if (cmd == 0x3B) {
+      reply = Reply({0xBB, 0x01, w[5], w[6], w[7], w[8], 0x10});
+    } else if (cmd == 0x77) {
+      ++config_writes;
+      Bytes p{0xF7, 0x01};
+      p.insert(p.end(), w.begin() + 5, w.end() - 2);
+      p.push_back(0x10);
+      reply = Reply(p);
+    } else {
+      reply = Reply({0x92, 0x10});
+    }
+    out.insert(out.end(), reply.begin(), reply.end());
+    s->QueueInput(out);
+  }
+  int device_baud_;
+};
+
+struct Fixture {
+  FakeClock clock;
+  FakeByteStream stream{&clock};
+  Lms200Config config;
+  Lms200SessionOptions options;
+  std::vector<LaserScan> scans;
+  Fixture() {
+    config.set_baud(38400);
+    options.sleep = [this](Duration d) { clock.Advance(d); };
+  }
+};
+
+TEST(Lms200SessionTest, StartsUpAtDeviceRateAndDeliversStampedScans) {
+  Fixture f;
+  ScriptedDevice device(&f.stream, 38400);
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 10 && f.scans.size() < 5; ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  ASSERT_EQ(f.scans.size(), 5u);
+  EXPECT_EQ(session.state(), Lms200Session::State::kStreaming);
+  EXPECT_FLOAT_EQ(f.scans[0].ranges_m[0], 1.0f);
+  EXPECT_EQ(f.scans[4].sequence, 4u);
+  // Stamp: before arrival by the wire time of 372 bytes at 38400 Bd plus half a revolution.
+  EXPECT_LT(f.scans[0].stamp, f.clock.Now() - std::chrono::milliseconds(96));
+  // The device was already at 38400 in mm: no config write, no baud switch.
+  EXPECT_EQ(device.config_writes, 0);
+  EXPECT_EQ(Counter(session.Health(), "baud_switches"), 0u);
+  EXPECT_EQ(session.Health().state, DeviceState::kOk);
+}
+
+TEST(Lms200SessionTest, ResendsAfterNakAndCountsIt) {
+  Fixture f;
+  ScriptedDevice device(&f.stream, 38400);
+  device.nak_first = 2;
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 10 && f.scans.empty(); ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  EXPECT_FALSE(f.scans.empty());
+  EXPECT_EQ(Counter(session.Health(), "naks"), 2u);
+  EXPECT_GE(Counter(session.Health(), "resends"), 2u);
+}
+
+TEST(Lms200SessionTest, WatchdogRestartsSilentStreamAfterOneSecond) {
+  Fixture f;
+  ScriptedDevice device(&f.stream, 38400);
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 10 && f.scans.size() < 5; ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  ASSERT_EQ(device.starts, 1);
+  const SteadyTime silent_since = f.clock.SteadyNow();
+  while (session.state() == Lms200Session::State::kStreaming &&
+         f.clock.SteadyNow() - silent_since < std::chrono::seconds(5)) {
+    session.Step(nullptr);
+  }
+  const Duration waited = f.clock.SteadyNow() - silent_since;
+  EXPECT_GE(waited, std::chrono::seconds(1));
+  EXPECT_LT(waited, std::chrono::milliseconds(1200));
+  EXPECT_EQ(Counter(session.Health(), "watchdog_restarts"), 1u);
+  for (int i = 0; i < 5 && session.state() != Lms200Session::State::kStreaming; ++i) {
+    session.Step(nullptr);
+  }
+  EXPECT_EQ(device.starts, 2);
+}
+
+TEST(Lms200SessionTest, KeepsReopeningAMissingPortAndRecovers) {
+  Fixture f;
+  ScriptedDevice device(&f.stream, 38400);
+  f.stream.SetUnplugged(true);
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 20; ++i) session.Step(nullptr);
+  EXPECT_EQ(session.state(), Lms200Session::State::kClosed);
+  EXPECT_EQ(session.Health().state, DeviceState::kError);
+  EXPECT_EQ(Counter(session.Health(), "open_failures"), 20u);
+  f.stream.SetUnplugged(false);
+  for (int i = 0; i < 10 && f.scans.empty(); ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  EXPECT_FALSE(f.scans.empty());
+}
+
+TEST(Lms200SessionTest, DetectsBaudByProbingAndSwitchesToConfiguredRate) {
+  Fixture f;
+  // The device sits at 19200; the scripted device does not switch, so the configured rate is
+  // the device's and only detection is exercised.
+  f.config.set_baud(19200);
+  ScriptedDevice device(&f.stream, 19200);
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 10 && f.scans.empty(); ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  EXPECT_FALSE(f.scans.empty());
+  EXPECT_EQ(f.stream.baud_rate(), 19200);
+}
+
+TEST(Lms200SessionTest, ValidatesConfiguration) {
+  Lms200Config config;
+  std::string error;
+  EXPECT_TRUE(ValidateLms200Config(config, &error)) << error;
+  config.set_baud(500000);
+  EXPECT_FALSE(ValidateLms200Config(config, &error));
+  EXPECT_NE(error.find("rs422"), std::string::npos);
+  config.set_rs422(true);
+  EXPECT_TRUE(ValidateLms200Config(config, &error));
+  config.set_angle_deg(180);
+  config.set_resolution_cdeg(25);
+  EXPECT_FALSE(ValidateLms200Config(config, &error));
+  EXPECT_NE(error.find("variant"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mostar::laser

@@ -1,0 +1,174 @@
+#include "robot_server/laser/serial_byte_stream.h"
+
+#include <poll.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <exception>
+
+namespace mostar::laser {
+namespace {
+
+bool ToLibSerial(int baud, LibSerial::BaudRate* out) {
+  switch (baud) {
+    case 9600:
+      *out = LibSerial::BaudRate::BAUD_9600;
+      return true;
+    case 19200:
+      *out = LibSerial::BaudRate::BAUD_19200;
+      return true;
+    case 38400:
+      *out = LibSerial::BaudRate::BAUD_38400;
+      return true;
+    case 500000:
+      *out = LibSerial::BaudRate::BAUD_500000;
+      return true;
+    default:
+      return false;
+  }
+}
+
+void SetError(std::string* error, const std::string& message) {
+  if (error) *error = message;
+}
+
+}  // namespace
+
+SerialByteStream::SerialByteStream(std::string path, int baud)
+    : path_(std::move(path)), baud_(baud) {}
+
+SerialByteStream::~SerialByteStream() { Close(); }
+
+bool SerialByteStream::IsOpen() const { return port_ != nullptr && port_->IsOpen(); }
+
+void SerialByteStream::Close() {
+  if (port_ == nullptr) return;
+  if (!port_->IsOpen()) {
+    port_.reset();
+    return;
+  }
+  try {
+    port_->Close();
+    port_.reset();
+    return;
+  } catch (const std::exception&) {
+  }
+  // The device vanished (unplugged adapter, closed pty): libserial cannot restore the line
+  // settings, keeps the port marked open and would throw from its destructor. Release the
+  // descriptor here and abandon the small object instead (once per unplug).
+  ::close(port_->GetFileDescriptor());
+  static_cast<void>(port_.release());
+}
+
+bool SerialByteStream::ApplyBaud(std::string* error) {
+  LibSerial::BaudRate rate;
+  if (!ToLibSerial(baud_, &rate)) {
+    SetError(error, "unsupported baud rate " + std::to_string(baud_));
+    return false;
+  }
+  try {
+    port_->SetBaudRate(rate);
+    port_->SetCharacterSize(LibSerial::CharacterSize::CHAR_SIZE_8);
+    port_->SetParity(LibSerial::Parity::PARITY_NONE);
+    port_->SetStopBits(LibSerial::StopBits::STOP_BITS_1);
+    port_->SetFlowControl(LibSerial::FlowControl::FLOW_CONTROL_NONE);
+  } catch (const std::exception& e) {
+    SetError(error, path_ + ": cannot set " + std::to_string(baud_) + " Bd: " + e.what());
+    return false;
+  }
+  return true;
+}
+
+bool SerialByteStream::Reopen(std::string* error) {
+  Close();
+  port_ = std::make_unique<LibSerial::SerialPort>();
+  try {
+    port_->Open(path_);
+  } catch (const std::exception& e) {
+    SetError(error, path_ + ": cannot open: " + e.what());
+    return false;
+  }
+  if (!ApplyBaud(error)) {
+    Close();
+    return false;
+  }
+  Flush();
+  return true;
+}
+
+bool SerialByteStream::SetBaudRate(int baud, std::string* error) {
+  LibSerial::BaudRate rate;
+  if (!ToLibSerial(baud, &rate)) {
+    SetError(error, "unsupported baud rate " + std::to_string(baud));
+    return false;
+  }
+  baud_ = baud;
+  if (!IsOpen()) return true;  // applied on the next Reopen()
+  return ApplyBaud(error);
+}
+
+void SerialByteStream::Flush() {
+  if (!IsOpen()) return;
+  try {
+    port_->FlushIOBuffers();
+  } catch (const std::exception&) {
+    // A vanished device shows up on the next Read/Write.
+  }
+}
+
+bool SerialByteStream::Write(const uint8_t* data, size_t size, std::string* error) {
+  if (!IsOpen()) {
+    SetError(error, path_ + " is not open");
+    return false;
+  }
+  const int fd = port_->GetFileDescriptor();
+  size_t written = 0;
+  while (written < size) {
+    const ssize_t n = ::write(fd, data + written, size - written);
+    if (n > 0) {
+      written += static_cast<size_t>(n);
+    } else if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
+      pollfd pfd{fd, POLLOUT, 0};
+      ::poll(&pfd, 1, 50);
+    } else {
+      SetError(error, path_ + ": write failed: " + std::strerror(errno));
+      Close();
+      return false;
+    }
+  }
+  return true;
+}
+
+int SerialByteStream::Read(uint8_t* buffer, size_t max, Duration timeout, std::string* error) {
+  if (!IsOpen()) {
+    SetError(error, path_ + " is not open");
+    return -1;
+  }
+  const int fd = port_->GetFileDescriptor();
+  pollfd pfd{fd, POLLIN, 0};
+  const int timeout_ms = static_cast<int>(
+      std::max<int64_t>(0, std::chrono::ceil<std::chrono::milliseconds>(timeout).count()));
+  const int ready = ::poll(&pfd, 1, timeout_ms);
+  if (ready < 0) {
+    if (errno == EINTR) return 0;
+    SetError(error, path_ + ": poll failed: " + std::strerror(errno));
+    Close();
+    return -1;
+  }
+  if (ready == 0) return 0;
+  if ((pfd.revents & POLLIN) == 0 && (pfd.revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+    SetError(error, path_ + ": device hung up");
+    Close();
+    return -1;
+  }
+  const ssize_t n = ::read(fd, buffer, max);
+  if (n > 0) return static_cast<int>(n);
+  if (n < 0 && (errno == EAGAIN || errno == EINTR)) return 0;
+  SetError(error, path_ + (n == 0 ? ": end of file"
+                                  : std::string(": read failed: ") + std::strerror(errno)));
+  Close();
+  return -1;
+}
+
+}  // namespace mostar::laser

@@ -1,0 +1,90 @@
+#include "robot_server/node/robot_node.h"
+
+#include "common/dds/conversions.h"
+#include "common/dds/topics.h"
+
+namespace mostar::server {
+
+namespace topics = dds::topics;
+using dds::Stream;
+
+namespace {
+
+template <class T>
+bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
+  if (endpoint->ok()) return true;
+  *error = endpoint->error();
+  return false;
+}
+
+}  // namespace
+
+std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Callbacks callbacks,
+                                             const Clock* clock, std::string* error) {
+  std::unique_ptr<RobotNode> node(new RobotNode());
+  node->clock_ = clock;
+  node->callbacks_ = std::move(callbacks);
+  RobotNode* self = node.get();
+  auto& p = *participant;
+  node->left_ = std::make_unique<decltype(node->left_)::element_type>(p, topics::kCameraLeft,
+                                                                      Stream::kVideo);
+  node->right_ = std::make_unique<decltype(node->right_)::element_type>(p, topics::kCameraRight,
+                                                                        Stream::kVideo);
+  node->scan_ =
+      std::make_unique<decltype(node->scan_)::element_type>(p, topics::kScan, Stream::kSensor);
+  node->odom_ = std::make_unique<decltype(node->odom_)::element_type>(p, topics::kOdometry,
+                                                                      Stream::kSensor);
+  node->health_ =
+      std::make_unique<decltype(node->health_)::element_type>(p, topics::kHealth, Stream::kState);
+  node->lease_ = std::make_unique<decltype(node->lease_)::element_type>(p, topics::kControlLease,
+                                                                        Stream::kState);
+  node->pong_ = std::make_unique<decltype(node->pong_)::element_type>(p, topics::kClockPong,
+                                                                      Stream::kControl);
+  node->command_ = std::make_unique<decltype(node->command_)::element_type>(
+      p, topics::kCommand, Stream::kCommand,
+      [self](const dds::wire::VelocityCommand& c) {
+        if (self->callbacks_.on_command) self->callbacks_.on_command(dds::FromIdl(c));
+      },
+      [self](int alive) {
+        if (self->callbacks_.on_command_writers) self->callbacks_.on_command_writers(alive);
+      });
+  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
+      p, topics::kEmergencyStop, Stream::kControl, [self](const dds::wire::EmergencyStop& s) {
+        if (self->callbacks_.on_estop) self->callbacks_.on_estop(dds::FromIdl(s));
+      });
+  node->request_ = std::make_unique<decltype(node->request_)::element_type>(
+      p, topics::kControlRequest, Stream::kControl,
+      [self](const dds::wire::ControlRequest& r) {
+        if (self->callbacks_.on_control_request) {
+          self->callbacks_.on_control_request(dds::FromIdl(r));
+        }
+      });
+  node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(
+      p, topics::kClockPing, Stream::kControl, [self](const dds::wire::ClockProbe& ping) {
+        ClockProbe probe = dds::FromIdl(ping);
+        probe.t1 = self->clock_->Now();
+        probe.t2 = self->clock_->Now();
+        self->pong_->Write(dds::ToIdl(probe));
+      });
+  if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
+      !Check(node->odom_, error) || !Check(node->health_, error) ||
+      !Check(node->lease_, error) || !Check(node->pong_, error) ||
+      !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->request_, error) || !Check(node->ping_, error)) {
+    return nullptr;
+  }
+  return node;
+}
+
+bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
+  const bool left_ok = left_->Write(dds::ToIdl(pair.left));
+  const bool right_ok = right_->Write(dds::ToIdl(pair.right));
+  return left_ok && right_ok;
+}
+
+void RobotNode::PublishScan(const LaserScan& scan) { scan_->Write(dds::ToIdl(scan)); }
+void RobotNode::PublishOdometry(const Odometry& odometry) { odom_->Write(dds::ToIdl(odometry)); }
+void RobotNode::PublishHealth(const RobotHealth& health) { health_->Write(dds::ToIdl(health)); }
+void RobotNode::PublishLease(const ControlLease& lease) { lease_->Write(dds::ToIdl(lease)); }
+
+}  // namespace mostar::server

@@ -1,0 +1,89 @@
+// Stereo rendering speed on the shipped corridor scene (target: 30 stereo pairs per second).
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "robot_server/sim/scene.h"
+#include "robot_server/sim/sim_world.h"
+
+namespace mostar::sim {
+namespace {
+
+std::string SourceDir() {
+  const char* dir = std::getenv("MOSTAR_SOURCE_DIR");
+  return dir ? dir : ".";
+}
+
+struct Fixture {
+  proto::Scene scene;
+  proto::SimConfig config;
+  std::unique_ptr<World> world;
+  std::unique_ptr<StereoRenderer> renderer;
+  Fixture() {
+    std::string error;
+    if (!LoadScene(SourceDir() + "/deploy/scenes/corridor.pbtxt", &scene, &error) ||
+        !LoadSimConfig(SourceDir() + "/deploy/config/sim_morduc.pbtxt", &config, &error)) {
+      throw std::runtime_error(error + " (set MOSTAR_SOURCE_DIR to the repository root)");
+    }
+    world = std::make_unique<World>(scene);
+    renderer = std::make_unique<StereoRenderer>(
+        *world, CameraParams::FromProto(config.camera()), config.laser().height_m());
+  }
+};
+
+Fixture& GetFixture() {
+  static Fixture fixture;
+  return fixture;
+}
+
+// Both eyes, two threads, no ground truth: what the simulated camera driver asks for.
+void BM_RenderStereo(benchmark::State& state) {
+  auto& f = GetFixture();
+  StereoImages out;
+  uint64_t frame = 0;
+  for (auto _ : state) {
+    const Pose2D pose{0.01 * static_cast<double>(frame % 100), 0.0, 0.002 * (frame % 50)};
+    f.renderer->Render(pose, frame++, /*with_truth=*/false, &out);
+    benchmark::DoNotOptimize(out.left.data);
+  }
+  state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                                     benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_RenderStereo)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Both eyes with labels and base rows (tests and scoring).
+void BM_RenderStereoWithTruth(benchmark::State& state) {
+  auto& f = GetFixture();
+  StereoImages out;
+  uint64_t frame = 0;
+  for (auto _ : state) {
+    f.renderer->Render(Pose2D{}, frame++, /*with_truth=*/true, &out);
+    benchmark::DoNotOptimize(out.left.data);
+  }
+}
+BENCHMARK(BM_RenderStereoWithTruth)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// One eye on the calling thread.
+void BM_RenderOneEye(benchmark::State& state) {
+  auto& f = GetFixture();
+  uint64_t frame = 0;
+  for (auto _ : state) {
+    cv::Mat image = f.renderer->RenderEye(Eye::kLeft, Pose2D{}, frame++, nullptr);
+    benchmark::DoNotOptimize(image.data);
+  }
+}
+BENCHMARK(BM_RenderOneEye)->Unit(benchmark::kMillisecond);
+
+// A laser scan (361 beams).
+void BM_LaserScan(benchmark::State& state) {
+  auto& f = GetFixture();
+  LaserRaycaster laser(*f.world, LaserParams::FromProto(f.config.laser()), 1);
+  for (auto _ : state) {
+    LaserScan scan = laser.Scan(Pose2D{}, Time(), nullptr);
+    benchmark::DoNotOptimize(scan.ranges_m.data());
+  }
+}
+BENCHMARK(BM_LaserScan)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace mostar::sim

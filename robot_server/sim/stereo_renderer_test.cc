@@ -1,0 +1,173 @@
+#include "robot_server/sim/stereo_renderer.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "robot_server/sim/laser_raycast.h"
+#include "robot_server/sim/sim_test_helpers.h"
+
+namespace mostar::sim {
+namespace {
+
+using testing::NoiselessConfig;
+using testing::OpenFloor;
+
+class RendererFixture : public ::testing::Test {
+ protected:
+  void Build(const std::string& scene_text, const proto::SimConfig& config = NoiselessConfig()) {
+    world_ = std::make_unique<World>(OpenFloor(scene_text));
+    renderer_ = std::make_unique<StereoRenderer>(
+        *world_, CameraParams::FromProto(config.camera()), config.laser().height_m());
+  }
+  std::unique_ptr<World> world_;
+  std::unique_ptr<StereoRenderer> renderer_;
+};
+
+// The default mounting, by hand: laser 0.35 m above the floor, cameras 0.60 m above and
+// 0.20 m behind it (0.95 m above the floor), tilted 0.21 rad down, f = 440 px, cy = 239.5.
+constexpr double kFocal = 440, kCy = 239.5, kTilt = 0.21;
+
+// Image row of a point `drop_m` below the camera and `ahead_m` in front of it (pinhole).
+double RowByHand(double drop_m, double ahead_m) {
+  return kCy + kFocal * std::tan(std::atan2(drop_m, ahead_m) - kTilt);
+}
+
+TEST_F(RendererFixture, WallBaseLandsOnTheRowOfThePinholeFormula) {
+  Build("wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 }");
+  ImageGroundTruth truth;
+  const cv::Mat image = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, &truth);
+  ASSERT_EQ(image.type(), CV_8UC3);
+  ASSERT_EQ(image.cols, 640);
+  ASSERT_EQ(image.rows, 480);
+  // The wall base (floor, x = 4 m) is 0.95 m below and 4.2 m ahead of the cameras.
+  const double v_base = RowByHand(0.95, 4.2);  // 244.96
+  const int expected_row = static_cast<int>(std::ceil(v_base)) - 1;
+  int exact = 0;
+  for (int u = 0; u < image.cols; ++u) {
+    ASSERT_NEAR(truth.base_row_px[u], expected_row, 1) << "column " << u;
+    exact += truth.base_row_px[u] == expected_row;
+    EXPECT_EQ(truth.base_obstacle_id[u], 1);
+  }
+  EXPECT_GT(exact, 630);
+  // The rows below the base line are floor, the ones above it wall.
+  EXPECT_EQ(truth.labels.at<uint8_t>(expected_row + 1, 320), kLabelFloor);
+  EXPECT_EQ(truth.labels.at<uint8_t>(expected_row - 5, 320), 1);
+}
+
+TEST_F(RendererFixture, GroundTruthProjectionAgreesWithTheHandFormula) {
+  Build("");
+  const LaserCameraCalibration& k = renderer_->params().calibration;
+  // A laser point 4 m ahead in the laser frame is 0.6 m below and 4.2 m ahead of the cameras.
+  double u, v;
+  ASSERT_TRUE(ProjectLaserPoint(k, Eye::kLeft, 4.0, 0.06, 0.0, &u, &v));
+  EXPECT_NEAR(u, 319.5, 1e-9);
+  EXPECT_NEAR(v, RowByHand(0.6, 4.2), 1e-9);
+  // Left eye at +6 cm: a point straight ahead of the pair appears right of centre by f b/2/z.
+  ASSERT_TRUE(ProjectLaserPoint(k, Eye::kLeft, 4.0, 0.0, 0.6, &u, &v));
+  EXPECT_NEAR(u, 319.5 + kFocal * 0.06 / (4.2 * std::cos(kTilt)), 1e-9);
+  ASSERT_TRUE(ProjectLaserPoint(k, Eye::kRight, 4.0, 0.0, 0.6, &u, &v));
+  EXPECT_NEAR(u, 319.5 - kFocal * 0.06 / (4.2 * std::cos(kTilt)), 1e-9);
+  EXPECT_FALSE(ProjectLaserPoint(k, Eye::kLeft, -3.0, 0.0, 0.0, &u, &v));  // behind
+}
+
+TEST_F(RendererFixture, WallEndLandsOnTheColumnOfThePinholeFormula) {
+  Build("wall { x0_m: 4 y0_m: 0.5 x1_m: 4 y1_m: 20 }");
+  ImageGroundTruth truth;
+  renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, &truth);
+  // End of the wall at the floor: 0.44 m left of the left eye, 4.2 m ahead, 0.95 m down.
+  const double z_cam = 4.2 * std::cos(kTilt) + 0.95 * std::sin(kTilt);
+  const double u_end = 319.5 - kFocal * 0.44 / z_cam;
+  const int row = static_cast<int>(std::ceil(RowByHand(0.95, 4.2))) - 3;
+  int last_wall_column = -1;
+  for (int u = 0; u < 640; ++u) {
+    if (truth.labels.at<uint8_t>(row, u) == 1) last_wall_column = u;
+  }
+  EXPECT_NEAR(last_wall_column, u_end, 1.0);
+}
+
+TEST_F(RendererFixture, LowObjectIsVisibleToTheCamerasButNotToTheLaser) {
+  Build("wall { x0_m: 5 y0_m: -20 x1_m: 5 y1_m: 20 }\n"
+        "box { x_m: 2 y_m: 0 size_x_m: 0.4 size_y_m: 0.6 height_m: 0.15 }");
+  ImageGroundTruth truth;
+  renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, &truth);
+  const int box_id = 2;
+  EXPECT_GT(cv::countNonZero(truth.labels == box_id), 1000);
+  EXPECT_EQ(truth.base_obstacle_id[320], box_id);  // the nearest base in the centre column
+  LaserParams laser;
+  laser.noise_sigma_m = 0;
+  const auto ranges = TrueRangesAt(*world_, laser, Pose2D{});
+  EXPECT_NEAR(ranges[180], 5.0, 1e-4);  // the beam straight ahead passes over the box
+}
+
+TEST_F(RendererFixture, RightEyeVerticalOffsetMovesItsImageDown) {
+  proto::SimConfig config = NoiselessConfig();
+  config.mutable_camera()->set_right_vertical_offset_px(3);
+  Build("wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 }", config);
+  StereoImages images;
+  renderer_->Render(Pose2D{}, 0, true, &images);
+  EXPECT_EQ(images.right_truth.base_row_px[320], images.left_truth.base_row_px[320] + 3);
+  EXPECT_NEAR(renderer_->params().calibration.right_cy_px, 242.5, 1e-12);
+}
+
+TEST_F(RendererFixture, ArtifactAppearsInOneEyeOnly) {
+  proto::SimConfig config = NoiselessConfig();
+  auto* a = config.mutable_camera()->mutable_artifact();
+  a->set_kind(proto::ArtifactConfig::DARK_BLOB);
+  a->set_eye(proto::ArtifactConfig::RIGHT);
+  a->set_size_px(30);
+  Build("wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 }", config);
+  StereoImages images;
+  renderer_->Render(Pose2D{}, 5, true, &images);
+  EXPECT_FALSE(images.left_truth.artifact_present);
+  ASSERT_TRUE(images.right_truth.artifact_present);
+  const cv::Rect box = images.right_truth.artifact_box & cv::Rect(0, 0, 640, 480);
+  ASSERT_GT(box.area(), 100);
+  // The blob darkens the right eye where it lies.
+  const cv::Point centre(box.x + box.width / 2, box.y + box.height / 2);
+  const cv::Vec3b with = images.right.at<cv::Vec3b>(centre);
+  const cv::Mat clean = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 5, nullptr);
+  EXPECT_LT(with[1], clean.at<cv::Vec3b>(centre)[1]);
+}
+
+TEST_F(RendererFixture, FramesAreReproducibleAndNoisy) {
+  proto::SimConfig config = NoiselessConfig();
+  config.mutable_camera()->set_noise_sigma(3.0);
+  Build("wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 }", config);
+  const cv::Mat a = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 7, nullptr);
+  const cv::Mat b = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 7, nullptr);
+  const cv::Mat c = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 8, nullptr);
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+  cv::Mat diff;
+  cv::absdiff(a, c, diff);
+  EXPECT_GT(cv::mean(diff)[0], 1.0);  // independent noise of sigma 3: mean |d| ~ 3.4
+  EXPECT_LT(cv::mean(diff)[0], 6.0);
+}
+
+TEST_F(RendererFixture, CheckerboardFloorShowsBothColours) {
+  Build("floor { pattern: CHECKERBOARD square_m: 0.5 colour { r: 230 g: 230 b: 230 } "
+        "colour2 { r: 20 g: 20 b: 20 } }");
+  const cv::Mat image = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, nullptr);
+  cv::Mat grey;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  const cv::Mat bottom = grey(cv::Rect(0, 300, 640, 180));
+  EXPECT_GT(cv::countNonZero(bottom < 40), 5000);
+  EXPECT_GT(cv::countNonZero(bottom > 120), 5000);
+}
+
+TEST(GroundTruthTest, BaseRowsPickTheLowestObstacleOverFloor) {
+  ImageGroundTruth truth;
+  truth.labels = cv::Mat(6, 2, CV_8U, cv::Scalar(kLabelFloor));
+  truth.labels.at<uint8_t>(0, 0) = 3;  // far obstacle over floor at row 0
+  truth.labels.at<uint8_t>(3, 0) = 4;  // near obstacle over floor at row 3
+  truth.labels.at<uint8_t>(5, 1) = 4;  // bottom row: no floor below
+  ComputeBaseRows(&truth);
+  EXPECT_EQ(truth.base_row_px[0], 3);
+  EXPECT_EQ(truth.base_obstacle_id[0], 4);
+  EXPECT_EQ(truth.base_row_px[1], -1);
+  EXPECT_EQ(BaseLinePixels(truth.labels).size(), 2u);
+}
+
+}  // namespace
+}  // namespace mostar::sim
