@@ -60,9 +60,15 @@ function(mostar_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
   mostar_target_settings(${name})
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
-    PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT 300
-    ENVIRONMENT "MOSTAR_SOURCE_DIR=${PROJECT_SOURCE_DIR};MOSTAR_BINARY_DIR=${PROJECT_BINARY_DIR}")
+  # Tests find repository files (shipped configs, scenes) through MOSTAR_SOURCE_DIR (environment,
+  # set by CTest) or the compile-time MOSTAR_TEST_SOURCE_DIR / MOSTAR_TEST_BINARY_DIR.
+  target_compile_definitions(${name} PRIVATE MOSTAR_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    MOSTAR_TEST_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  set(properties TIMEOUT 300 ENVIRONMENT "MOSTAR_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  if(ARG_LABELS)
+    list(APPEND properties LABELS "${ARG_LABELS}")
+  endif()
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES ${properties})
 endfunction()
 
 # mostar_benchmark(<name> SOURCES ... DEPS ...): a Google Benchmark executable (not a test).

@@ -52,12 +52,19 @@ class LogRateLimiter {
 
 }  // namespace mostar
 
+// The switch makes each macro one statement, safe inside an unbraced if/else.
 #define MOSTAR_LOG(level)                                    \
-  if (!::mostar::LogEnabled(::mostar::LogLevel::k##level)) { \
-  } else                                                     \
+  switch (0)                                                 \
+  case 0:                                                    \
+  default:                                                   \
+    if (!::mostar::LogEnabled(::mostar::LogLevel::k##level)) { \
+    } else                                                   \
     ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__).stream()
 
 #define MOSTAR_LOG_EVERY_SEC(level, seconds)                                                 \
+  switch (0)                                                                                 \
+  case 0:                                                                                    \
+  default:                                                                                   \
   if (uint64_t mostar_log_suppressed_ = 0;                                                   \
       !::mostar::LogEnabled(::mostar::LogLevel::k##level) ||                                 \
       !([]() -> ::mostar::LogRateLimiter& {                                                  \

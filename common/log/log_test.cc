@@ -44,5 +44,17 @@ TEST(LogTest, EverySecMacroLogsOncePerPeriod) {
   EXPECT_EQ(out.find("burst 1"), std::string::npos);
 }
 
+TEST(LogTest, MacroIsOneStatementInsideUnbracedIf) {
+  testing::internal::CaptureStderr();
+  bool flag = false;
+  if (flag)
+    MOSTAR_LOG(ERROR) << "not this";
+  else
+    MOSTAR_LOG(ERROR) << "this one";
+  const std::string out = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(out.find("not this"), std::string::npos);
+  EXPECT_NE(out.find("this one"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace mostar

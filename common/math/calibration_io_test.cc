@@ -11,11 +11,14 @@
 namespace mostar::math {
 namespace {
 
-// The repository root: MOSTAR_SOURCE_DIR when the test runner sets it, else derived from this
-// file's path.
+// The repository root: MOSTAR_SOURCE_DIR when the test runner sets it, else the build's
+// MOSTAR_TEST_SOURCE_DIR, else derived from this file's path.
 std::string SourceDir() {
   const char* dir = std::getenv("MOSTAR_SOURCE_DIR");
   if (dir != nullptr && *dir != '\0') return dir;
+#ifdef MOSTAR_TEST_SOURCE_DIR
+  return MOSTAR_TEST_SOURCE_DIR;
+#else
   const std::string file = __FILE__;
   const std::string suffix = "common/math/calibration_io_test.cc";
   if (file.size() > suffix.size() &&
@@ -23,6 +26,7 @@ std::string SourceDir() {
     return file.substr(0, file.size() - suffix.size());
   }
   return ".";
+#endif
 }
 
 void ExpectEqual(const LaserCameraCalibration& a, const LaserCameraCalibration& b) {

@@ -32,7 +32,6 @@
 #include <Eigen/Geometry>
 #include <optional>
 #include <string>
-#include <vector>
 
 namespace mostar::math {
 

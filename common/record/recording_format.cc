@@ -57,7 +57,7 @@ std::string TopicName(const RecordedMessage& message) {
   switch (message.kind()) {
     case RecordKind::kImage:
       return std::get<RecordedImage>(message.payload).eye == Eye::kLeft ? "camera/left"
-                                                                          : "camera/right";
+                                                                        : "camera/right";
     case RecordKind::kScan:
       return "scan";
     case RecordKind::kOdometry:

@@ -64,7 +64,7 @@ struct SensorDescription {
 // Content of the file header.
 struct RecordingInfo {
   uint32_t format_version = kFormatVersion;  // set by the reader; the writer always writes its own
-  Time creation_time;  // zero: the writer fills in its clock's Now()
+  Time creation_time;                        // zero: the writer fills in its clock's Now()
   std::string robot_id;
   SensorDescription sensors;
   std::string calibration_text;  // calibration in force, protobuf text; opaque here

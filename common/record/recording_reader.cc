@@ -117,8 +117,8 @@ bool RecordingReader::OpenHeader(std::string* error) {
       *error = where + "truncated: the header is missing";
       return false;
     case FrameStatus::kDamage:
-      *error = where + "damaged header at byte " + std::to_string(damage.offset) + ": " +
-               damage.reason;
+      *error =
+          where + "damaged header at byte " + std::to_string(damage.offset) + ": " + damage.reason;
       return false;
   }
   proto::Header header;
@@ -191,8 +191,8 @@ RecordingReader::FrameStatus RecordingReader::ReadFrame(uint64_t offset, std::st
     return FrameStatus::kDamage;
   }
   if (length > kMaxRecordBytes) {
-    damage->reason = "bad length " + std::to_string(length) + " (limit " +
-                     std::to_string(kMaxRecordBytes) + ")";
+    damage->reason =
+        "bad length " + std::to_string(length) + " (limit " + std::to_string(kMaxRecordBytes) + ")";
     return FrameStatus::kDamage;
   }
   const uint64_t total = static_cast<uint64_t>(used) + length + 4;
@@ -209,7 +209,8 @@ RecordingReader::FrameStatus RecordingReader::ReadFrame(uint64_t offset, std::st
   const uint32_t stored = LoadLe32(bytes.data() + length);
   const uint32_t computed = Crc32(bytes.data(), static_cast<size_t>(length));
   if (stored != computed) {
-    damage->reason = "CRC mismatch (stored " + Hex32(stored) + ", computed " + Hex32(computed) + ")";
+    damage->reason =
+        "CRC mismatch (stored " + Hex32(stored) + ", computed " + Hex32(computed) + ")";
     return FrameStatus::kDamage;
   }
   bytes.resize(static_cast<size_t>(length));
@@ -300,9 +301,8 @@ void RecordingReader::RebuildIndex() {
   uint64_t offset = data_begin_;
   while (offset < data_end_) {
     char head[kLightScanBytes];
-    const size_t n =
-        ReadAt(offset, static_cast<size_t>(std::min<uint64_t>(data_end_ - offset, kLightScanBytes)),
-               head);
+    const size_t n = ReadAt(
+        offset, static_cast<size_t>(std::min<uint64_t>(data_end_ - offset, kLightScanBytes)), head);
     const auto* p = reinterpret_cast<const uint8_t*>(head);
     uint64_t length = 0;
     const int used = ParseVarint(p, n, &length);

@@ -80,8 +80,7 @@ std::string FormatSummary(const RecordingSummary& s, size_t max_gaps_listed) {
   out << "file size:       " << Bytes(static_cast<double>(s.file_size_bytes)) << " ("
       << s.file_size_bytes << " bytes)\n";
   out << "closed cleanly:  "
-      << (s.has_footer ? "yes (footer index present)"
-                       : "no (no footer: index rebuilt by scanning)")
+      << (s.has_footer ? "yes (footer index present)" : "no (no footer: index rebuilt by scanning)")
       << "\n";
   const SensorDescription& sensors = info.sensors;
   if (sensors.laser_beam_count > 0) {
@@ -91,8 +90,8 @@ std::string FormatSummary(const RecordingSummary& s, size_t max_gaps_listed) {
         << " Hz\n";
   }
   if (sensors.camera_width_px > 0) {
-    out << "camera:          " << sensors.camera_width_px << "x" << sensors.camera_height_px
-        << " " << sensors.camera_format << " at " << sensors.camera_frame_rate_hz << " Hz\n";
+    out << "camera:          " << sensors.camera_width_px << "x" << sensors.camera_height_px << " "
+        << sensors.camera_format << " at " << sensors.camera_frame_rate_hz << " Hz\n";
   }
   out << "calibration:     "
       << (info.calibration_text.empty() ? "none"
@@ -110,8 +109,8 @@ std::string FormatSummary(const RecordingSummary& s, size_t max_gaps_listed) {
     if (s.unknown_records > 0) out << ", " << s.unknown_records << " of unknown type skipped";
     out << ")\n\n";
     char line[256];
-    std::snprintf(line, sizeof(line), "%-16s %9s %9s %12s %11s %12s\n", "topic", "count",
-                  "rate Hz", "total", "mean", "largest gap");
+    std::snprintf(line, sizeof(line), "%-16s %9s %9s %12s %11s %12s\n", "topic", "count", "rate Hz",
+                  "total", "mean", "largest gap");
     out << line;
     for (const auto& [name, t] : s.topics) {
       std::snprintf(line, sizeof(line), "%-16s %9llu %9.2f %12s %11s %12s\n", name.c_str(),
@@ -125,8 +124,8 @@ std::string FormatSummary(const RecordingSummary& s, size_t max_gaps_listed) {
       out << "\ngaps in " << name << " (" << t.long_gaps.size() << "):\n";
       for (size_t i = 0; i < t.long_gaps.size() && i < max_gaps_listed; ++i) {
         const Gap& gap = t.long_gaps[i];
-        out << "  " << Seconds(gap.to - gap.from) << " at +" << Seconds(gap.from - s.start)
-            << " (" << ToIso8601(gap.from) << ")\n";
+        out << "  " << Seconds(gap.to - gap.from) << " at +" << Seconds(gap.from - s.start) << " ("
+            << ToIso8601(gap.from) << ")\n";
       }
       if (t.long_gaps.size() > max_gaps_listed) {
         out << "  ... and " << t.long_gaps.size() - max_gaps_listed << " more\n";

@@ -58,8 +58,7 @@ std::unique_ptr<RecordingWriter> RecordingWriter::OpenSink(std::unique_ptr<ByteS
                                                            const std::string& name,
                                                            const RecordingWriterOptions& options,
                                                            const RecordingInfo& info,
-                                                           const Clock& clock,
-                                                           std::string* error) {
+                                                           const Clock& clock, std::string* error) {
   std::string option_error;
   if (!options.IsValid(&option_error)) {
     *error = "recording " + name + ": bad writer option: " + option_error;
@@ -86,7 +85,8 @@ bool RecordingWriter::WriteHeader(const RecordingInfo& info, std::string* error)
   proto::Header header;
   ToProto(stamped, &header);
   std::string bytes(kMagic, kMagicSize);
-  for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((kFormatVersion >> (8 * i)) & 0xFFu));
+  for (int i = 0; i < 4; ++i)
+    bytes.push_back(static_cast<char>((kFormatVersion >> (8 * i)) & 0xFFu));
   AppendFrame(header.SerializeAsString(), &bytes);
   std::string sink_error;
   if (!sink_->Append(bytes.data(), bytes.size(), &sink_error) || !sink_->Sync(&sink_error)) {
@@ -120,9 +120,13 @@ bool RecordingWriter::Write(const CompressedStereoPair& pair) {
 
 bool RecordingWriter::Write(const LaserScan& scan) { return Write(Stamped(clock_, scan)); }
 bool RecordingWriter::Write(const Odometry& odometry) { return Write(Stamped(clock_, odometry)); }
-bool RecordingWriter::Write(const VelocityCommand& command) { return Write(Stamped(clock_, command)); }
+bool RecordingWriter::Write(const VelocityCommand& command) {
+  return Write(Stamped(clock_, command));
+}
 bool RecordingWriter::Write(const EmergencyStop& stop) { return Write(Stamped(clock_, stop)); }
-bool RecordingWriter::Write(const ControlRequest& request) { return Write(Stamped(clock_, request)); }
+bool RecordingWriter::Write(const ControlRequest& request) {
+  return Write(Stamped(clock_, request));
+}
 bool RecordingWriter::Write(const ControlLease& lease) { return Write(Stamped(clock_, lease)); }
 bool RecordingWriter::Write(const RobotHealth& health) { return Write(Stamped(clock_, health)); }
 
@@ -133,6 +137,14 @@ bool RecordingWriter::Write(const RecordedMessage& message) {
   item.log_time = message.log_time;
   item.is_frame = message.kind() == RecordKind::kImage;
   item.bytes = record.SerializeAsString();
+  if (item.bytes.size() > kMaxRecordBytes) {
+    MOSTAR_LOG_EVERY_SEC(ERROR, 5)
+        << "recording " << name_ << ": dropping a " << TopicName(message) << " record of "
+        << item.bytes.size() << " bytes (limit " << kMaxRecordBytes << ")";
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++(item.is_frame ? stats_.frames_dropped : stats_.records_dropped);
+    return false;
+  }
   return Enqueue(std::move(item));
 }
 

@@ -205,8 +205,8 @@ TEST(RecordingWriterTest, SlowDiskDropsFramesButKeepsScansAndCommands) {
   RecordingWriterOptions options;
   options.max_queue_bytes = 1u << 20;
   std::string error;
-  auto writer = RecordingWriter::OpenSink(std::make_unique<MemorySink>(&state), "memory",
-                                          options, testing::MakeInfo(), clock, &error);
+  auto writer = RecordingWriter::OpenSink(std::make_unique<MemorySink>(&state), "memory", options,
+                                          testing::MakeInfo(), clock, &error);
   ASSERT_NE(writer, nullptr) << error;
   {
     std::lock_guard<std::mutex> lock(state.mutex);
@@ -269,8 +269,8 @@ TEST(RecordingWriterTest, WritesPeriodicIndexRecordsAndSyncsOnClose) {
   options.index_period = std::chrono::seconds(1);
   options.index_record_period = std::chrono::seconds(5);
   std::string error;
-  auto writer = RecordingWriter::OpenSink(std::make_unique<MemorySink>(&state), "memory",
-                                          options, testing::MakeInfo(), clock, &error);
+  auto writer = RecordingWriter::OpenSink(std::make_unique<MemorySink>(&state), "memory", options,
+                                          testing::MakeInfo(), clock, &error);
   ASSERT_NE(writer, nullptr) << error;
   for (int i = 0; i < 300; ++i) {  // 30 s at 10 Hz
     writer->Write(testing::MakeOdometry(clock.Now()));

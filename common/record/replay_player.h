@@ -48,8 +48,8 @@ class ReplayClock {
 };
 
 struct ReplayOptions {
-  double rate = 1.0;    // playback speed factor, > 0
-  bool loop = false;    // restart from the beginning at the end (or at damage)
+  double rate = 1.0;  // playback speed factor, > 0
+  bool loop = false;  // restart from the beginning at the end (or at damage)
   bool start_paused = false;
 
   bool IsValid(std::string* error) const;

@@ -28,7 +28,8 @@ inline RecordedImage MakeImage(Eye eye, Time stamp, uint64_t sequence, size_t si
   image.image.format = "jpeg";
   image.image.data.resize(size_bytes);
   for (size_t i = 0; i < size_bytes; ++i) {
-    image.image.data[i] = static_cast<uint8_t>((i * 31 + sequence * 7 + (eye == Eye::kLeft ? 0 : 1)) & 0xFF);
+    image.image.data[i] =
+        static_cast<uint8_t>((i * 31 + sequence * 7 + (eye == Eye::kLeft ? 0 : 1)) & 0xFF);
   }
   return image;
 }
@@ -170,6 +171,27 @@ inline RecordingInfo MakeInfo() {
   info.metadata = {{"operator", "alice"}, {"site", "lab"}};
   return info;
 }
+
+// Records in memory, in the order given.
+class VectorRecordStream final : public RecordStream {
+ public:
+  explicit VectorRecordStream(std::vector<RecordedMessage> messages)
+      : messages_(std::move(messages)) {}
+  bool Next(RecordedMessage* message) override {
+    if (next_ >= messages_.size()) return false;
+    *message = messages_[next_++];
+    return true;
+  }
+  bool SeekToTime(Time t) override {
+    next_ = 0;
+    while (next_ < messages_.size() && messages_[next_].log_time < t) ++next_;
+    return next_ < messages_.size();
+  }
+
+ private:
+  std::vector<RecordedMessage> messages_;
+  size_t next_ = 0;
+};
 
 // A fresh path in the test's temporary directory.
 inline std::string TempPath(const std::string& name) {

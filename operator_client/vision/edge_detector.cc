@@ -2,9 +2,8 @@
 
 #include <cassert>
 #include <cmath>
-#include <sstream>
-
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 namespace mostar::vision {
 
@@ -53,9 +52,9 @@ bool EdgeDetector::Detect(const cv::Mat& image, EdgeImages* out, std::string* er
       (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)) {
     if (error != nullptr) {
       std::ostringstream why;
-      why << "edge detection needs a non-empty 8-bit grey, BGR or BGRA image (got "
-          << image.cols << "x" << image.rows << ", depth " << image.depth() << ", "
-          << image.channels() << " channels)";
+      why << "edge detection needs a non-empty 8-bit grey, BGR or BGRA image (got " << image.cols
+          << "x" << image.rows << ", depth " << image.depth() << ", " << image.channels()
+          << " channels)";
       *error = why.str();
     }
     out->stretched_grey.release();

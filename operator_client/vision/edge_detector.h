@@ -5,9 +5,8 @@
 // from several threads at once (each call writes only its own output).
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace mostar::vision {
 

@@ -1,6 +1,7 @@
 #include "operator_client/vision/edge_detector.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
 
 namespace mostar::vision {
@@ -61,7 +62,7 @@ TEST(EdgeDetectorTest, FindsAStepAndNothingInFlatAreas) {
   ASSERT_TRUE(detector.Detect(image, &out, &error)) << error;
   ASSERT_EQ(out.edges.type(), CV_8UC1);
   ASSERT_EQ(out.stretched_grey.size(), image.size());
-  EXPECT_EQ(out.stretched_grey.at<uint8_t>(10, 10), 0);     // 40 < lowTh
+  EXPECT_EQ(out.stretched_grey.at<uint8_t>(10, 10), 0);  // 40 < lowTh
   for (int col = 5; col < 155; ++col) {
     const int hits = (out.edges.at<uint8_t>(59, col) != 0) + (out.edges.at<uint8_t>(60, col) != 0);
     EXPECT_GE(hits, 1) << "column " << col;

@@ -88,8 +88,8 @@ void EdgeWorker::Run() {
       pipeline->Process(input, result.get());
     }
     if (!result->ok) {
-      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "edge processing of frame pair " << input.sequence
-                                       << " failed: " << result->error;
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+          << "edge processing of frame pair " << input.sequence << " failed: " << result->error;
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);

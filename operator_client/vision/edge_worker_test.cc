@@ -1,9 +1,9 @@
 #include "operator_client/vision/edge_worker.h"
 
+#include <gtest/gtest.h>
+
 #include <condition_variable>
 #include <mutex>
-
-#include <gtest/gtest.h>
 
 namespace mostar::vision {
 namespace {

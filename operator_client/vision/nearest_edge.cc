@@ -36,8 +36,8 @@ class RaySampler {
     *u = calibration_.fx() * xd + calibration_.cx();
     *v = calibration_.fy() * yd + calibration_.cy();
     // Growth of the distorted radius with the undistorted one: d(r * radial) / dr.
-    const double gain = std::max(
-        0.25, std::abs(radial + 2.0 * r2 * (d.k1 + r2 * (2.0 * d.k2 + 3.0 * d.k3 * r2))));
+    const double gain =
+        std::max(0.25, std::abs(radial + 2.0 * r2 * (d.k1 + r2 * (2.0 * d.k2 + 3.0 * d.k3 * r2))));
     *du_dt = calibration_.fx() * dx * gain;
     *dv_dt = calibration_.fy() * dy * gain;
     *speed_px_per_m = std::hypot(*du_dt, *dv_dt);
@@ -73,9 +73,8 @@ Eigen::Vector3d FloorPointLaser(double azimuth_rad, double distance_m, double la
                          -laser_height_m);
 }
 
-Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera,
-                         double azimuth_rad, const NearestEdgeOptions& options,
-                         bool* ray_visible) {
+Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera, double azimuth_rad,
+                         const NearestEdgeOptions& options, bool* ray_visible) {
   assert(edges.type() == CV_8UC1 && edges.cols == camera.width_px() &&
          edges.rows == camera.height_px());
   if (ray_visible != nullptr) *ray_visible = false;
@@ -165,9 +164,8 @@ Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera,
   return nep;
 }
 
-bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera,
-                      const LaserScan& scan, const NearestEdgeOptions& options, NedResult* out,
-                      std::string* error) {
+bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, const LaserScan& scan,
+                      const NearestEdgeOptions& options, NedResult* out, std::string* error) {
   assert(out != nullptr);
   out->neps.assign(scan.ranges_m.size(), Nep{});
   out->visible_rays = 0;

@@ -15,13 +15,12 @@
 // Pure functions: safe to call from any thread.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <opencv2/core.hpp>
 
 #include "common/math/camera_model.h"
 #include "common/types/laser_scan.h"
@@ -71,16 +70,14 @@ struct NedResult {
 // needs the beam's azimuth). `edges` is the CV_8UC1 edge image of the camera `camera` describes
 // (non-zero = edge); its size must match the camera's. On a size/type mismatch or invalid
 // options, returns false with `error` set and `out` holds one not-found NEP per beam.
-bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera,
-                      const LaserScan& scan, const NearestEdgeOptions& options, NedResult* out,
-                      std::string* error);
+bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, const LaserScan& scan,
+                      const NearestEdgeOptions& options, NedResult* out, std::string* error);
 
 // The NEP along one virtual ray: the floor half-line from the robot base with azimuth
 // `azimuth_rad` (laser frame, counter-clockwise, 0 = ahead). Preconditions as above (checked by
 // FindNearestEdges; this one asserts).
-Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera,
-                         double azimuth_rad, const NearestEdgeOptions& options,
-                         bool* ray_visible = nullptr);
+Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera, double azimuth_rad,
+                         const NearestEdgeOptions& options, bool* ray_visible = nullptr);
 
 // Floor point (laser frame) at `distance_m` from the robot base along `azimuth_rad`.
 Eigen::Vector3d FloorPointLaser(double azimuth_rad, double distance_m, double laser_height_m);

@@ -1,8 +1,8 @@
 #include "operator_client/vision/nearest_edge.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace mostar::vision {
@@ -150,10 +150,9 @@ TEST(NearestEdgeTest, DoesNotCrossADiagonalEdgeUnseen) {
     const auto side = [&](const Eigen::Vector2d& p) { return p.y() - (offset + slope * p.x()); };
     int crossing = 0;
     for (double azimuth = -0.6; azimuth <= 0.6; azimuth += 0.005) {
-      const auto segment = camera.ProjectRayToImage(Eigen::Vector3d(0, 0, -0.40),
-                                                    Eigen::Vector3d(std::cos(azimuth),
-                                                                    std::sin(azimuth), 0),
-                                                    NearestEdgeOptions{}.max_range_m);
+      const auto segment = camera.ProjectRayToImage(
+          Eigen::Vector3d(0, 0, -0.40), Eigen::Vector3d(std::cos(azimuth), std::sin(azimuth), 0),
+          NearestEdgeOptions{}.max_range_m);
       if (!segment || side(segment->start_px) * side(segment->end_px) > -4.0) continue;
       ++crossing;
       const Nep nep = FindNearestEdgeOnRay(edges, camera, azimuth, NearestEdgeOptions{});

@@ -33,8 +33,7 @@ const char* NepRelationName(NepRelation relation) {
   return "?";
 }
 
-NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m,
-                             double edge_threshold_m) {
+NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m, double edge_threshold_m) {
   if (!std::isfinite(nep_distance_m)) return NepRelation::kNone;
   if (!LaserScan::IsValidRange(laser_range_m)) return NepRelation::kNearer;
   const double difference_m = nep_distance_m - static_cast<double>(laser_range_m);
@@ -43,9 +42,8 @@ NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m,
 }
 
 bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
-                  const std::vector<bool>& potential_outliers,
-                  const NepClassifierOptions& options, double laser_height_m,
-                  NepClassification* out, std::string* error) {
+                  const std::vector<bool>& potential_outliers, const NepClassifierOptions& options,
+                  double laser_height_m, NepClassification* out, std::string* error) {
   assert(out != nullptr);
   const size_t n = scan.ranges_m.size();
   *out = NepClassification{};
@@ -71,8 +69,7 @@ bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
     const Nep& nep = neps[i];
     const float range_m = scan.ranges_m[i];
     NepRelation relation = nep.found
-                               ? RelateNepToLaser(nep.distance_m, range_m,
-                                                  options.edge_threshold_m)
+                               ? RelateNepToLaser(nep.distance_m, range_m, options.edge_threshold_m)
                                : NepRelation::kNone;
     if (relation != NepRelation::kNone && relation != NepRelation::kAgrees && !nep.reliable) {
       relation = NepRelation::kNone;  // thesis 9.2: unreliable NEPs never contradict the laser
@@ -85,9 +82,9 @@ bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
         ++out->corrected;
         break;
       case NepRelation::kNearer:
-        out->possible_obstacles.push_back(PossibleObstacle{
-            static_cast<int>(i), nep.distance_m,
-            FloorPointLaser(scan.AngleOf(i), nep.distance_m, laser_height_m)});
+        out->possible_obstacles.push_back(
+            PossibleObstacle{static_cast<int>(i), nep.distance_m,
+                             FloorPointLaser(scan.AngleOf(i), nep.distance_m, laser_height_m)});
         ++out->nearer;
         break;
       case NepRelation::kFurther:

@@ -5,11 +5,10 @@
 // Pure functions: safe to call from any thread.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "common/types/laser_scan.h"
 #include "operator_client/vision/nearest_edge.h"
@@ -26,10 +25,10 @@ struct NepClassifierOptions {
 
 // How a beam's NEP relates to its laser point.
 enum class NepRelation : uint8_t {
-  kNone,        // no NEP, or an unreliable one that disagrees with the laser (disregarded)
-  kAgrees,      // |d_nep - d_laser| <= edgeTh: the overlay is moved onto the NEP
-  kNearer,      // d_nep < d_laser - edgeTh (or the beam has no valid range): possible obstacle
-  kFurther,     // d_nep > d_laser + edgeTh: the laser is trusted, the NEP ignored
+  kNone,     // no NEP, or an unreliable one that disagrees with the laser (disregarded)
+  kAgrees,   // |d_nep - d_laser| <= edgeTh: the overlay is moved onto the NEP
+  kNearer,   // d_nep < d_laser - edgeTh (or the beam has no valid range): possible obstacle
+  kFurther,  // d_nep > d_laser + edgeTh: the laser is trusted, the NEP ignored
 };
 
 const char* NepRelationName(NepRelation relation);
@@ -43,8 +42,8 @@ struct BeamDecision {
 
 // A NEP much nearer than the laser: drawn as a coloured dot (thesis fig. 33).
 struct PossibleObstacle {
-  int beam = 0;                                                // beam index in the scan
-  double distance_m = 0.0;                                     // floor distance from the base
+  int beam = 0;                                                 // beam index in the scan
+  double distance_m = 0.0;                                      // floor distance from the base
   Eigen::Vector3d floor_point_laser = Eigen::Vector3d::Zero();  // laser frame, on the floor
 };
 
@@ -55,10 +54,10 @@ struct NepClassification {
   // to the AR features instead of the raw scan.
   LaserScan corrected_scan;
   std::vector<PossibleObstacle> possible_obstacles;
-  int corrected = 0;             // beams with NepRelation::kAgrees
-  int nearer = 0;                // == possible_obstacles.size()
-  int further = 0;               // ignored NEPs
-  int unreliable_ignored = 0;    // unreliable NEPs that did not agree with the laser
+  int corrected = 0;           // beams with NepRelation::kAgrees
+  int nearer = 0;              // == possible_obstacles.size()
+  int further = 0;             // ignored NEPs
+  int unreliable_ignored = 0;  // unreliable NEPs that did not agree with the laser
   int confirmed_outliers = 0;
   int potential_outliers_kept = 0;  // potential outliers whose NEP agreed or that had none
 };
@@ -70,12 +69,10 @@ struct NepClassification {
 // only when they agree. Returns false with `error` on size mismatches or invalid options (then
 // `out` holds the uncorrected scan and no decisions are "confirmed").
 bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
-                  const std::vector<bool>& potential_outliers,
-                  const NepClassifierOptions& options, double laser_height_m,
-                  NepClassification* out, std::string* error);
+                  const std::vector<bool>& potential_outliers, const NepClassifierOptions& options,
+                  double laser_height_m, NepClassification* out, std::string* error);
 
 // The relation of one NEP distance to one laser range (no reliability logic).
-NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m,
-                             double edge_threshold_m);
+NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m, double edge_threshold_m);
 
 }  // namespace mostar::vision

@@ -1,9 +1,9 @@
 #include "operator_client/vision/nep_classifier.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
-
-#include <gtest/gtest.h>
 
 namespace mostar::vision {
 namespace {
@@ -31,8 +31,8 @@ NepClassification Classify(const LaserScan& scan, const std::vector<Nep>& neps,
                            const std::vector<bool>& outliers = {}) {
   NepClassification out;
   std::string error;
-  EXPECT_TRUE(ClassifyNeps(scan, neps, outliers, NepClassifierOptions{}, kLaserHeightM, &out,
-                           &error))
+  EXPECT_TRUE(
+      ClassifyNeps(scan, neps, outliers, NepClassifierOptions{}, kLaserHeightM, &out, &error))
       << error;
   return out;
 }
@@ -54,8 +54,8 @@ TEST(NepClassifierTest, MuchNearerNepIsAPossibleObstacleTheLaserMissed) {
   ASSERT_EQ(out.possible_obstacles.size(), 1u);
   EXPECT_EQ(out.possible_obstacles[0].beam, 1);
   EXPECT_DOUBLE_EQ(out.possible_obstacles[0].distance_m, 1.5);
-  EXPECT_NEAR(out.possible_obstacles[0].floor_point_laser.norm(),
-              std::hypot(1.5, kLaserHeightM), 1e-9);
+  EXPECT_NEAR(out.possible_obstacles[0].floor_point_laser.norm(), std::hypot(1.5, kLaserHeightM),
+              1e-9);
   EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 3.0f);  // the laser is not moved
 }
 
@@ -75,8 +75,8 @@ TEST(NepClassifierTest, ThresholdIsInclusive) {
 }
 
 TEST(NepClassifierTest, BeamWithoutAValidRangeMakesTheNepAPossibleObstacle) {
-  const LaserScan scan = ScanOf({std::numeric_limits<float>::quiet_NaN(),
-                                 std::numeric_limits<float>::infinity()});
+  const LaserScan scan =
+      ScanOf({std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()});
   const NepClassification out = Classify(scan, {NepAt(scan, 0, 1.0), NepAt(scan, 1, 4.0)});
   EXPECT_EQ(out.beams[0].relation, NepRelation::kNearer);
   EXPECT_EQ(out.beams[1].relation, NepRelation::kNearer);
@@ -85,12 +85,11 @@ TEST(NepClassifierTest, BeamWithoutAValidRangeMakesTheNepAPossibleObstacle) {
 TEST(NepClassifierTest, DisagreeingNepConfirmsAPotentialOutlier) {
   // Beam 1: a spurious short range between two walls at 3 m; the edge is at the wall.
   const LaserScan scan = ScanOf({3.0f, 1.2f, 3.0f, 3.0f});
-  const NepClassification out =
-      Classify(scan, {Nep{}, NepAt(scan, 1, 3.0), Nep{}, NepAt(scan, 3, 1.0)},
-               {false, true, false, true});
-  EXPECT_TRUE(out.beams[1].confirmed_outlier);           // further NEP disagrees
+  const NepClassification out = Classify(
+      scan, {Nep{}, NepAt(scan, 1, 3.0), Nep{}, NepAt(scan, 3, 1.0)}, {false, true, false, true});
+  EXPECT_TRUE(out.beams[1].confirmed_outlier);              // further NEP disagrees
   EXPECT_TRUE(std::isnan(out.corrected_scan.ranges_m[1]));  // not drawn
-  EXPECT_TRUE(out.beams[3].confirmed_outlier);           // nearer NEP disagrees too
+  EXPECT_TRUE(out.beams[3].confirmed_outlier);              // nearer NEP disagrees too
   EXPECT_EQ(out.confirmed_outliers, 2);
   EXPECT_FALSE(out.beams[0].confirmed_outlier);
 }
@@ -121,8 +120,8 @@ TEST(NepClassifierTest, RejectsSizeMismatchesWithAMessage) {
   const LaserScan scan = ScanOf({1.0f, 1.0f});
   NepClassification out;
   std::string error;
-  EXPECT_FALSE(ClassifyNeps(scan, {Nep{}}, {}, NepClassifierOptions{}, kLaserHeightM, &out,
-                            &error));
+  EXPECT_FALSE(
+      ClassifyNeps(scan, {Nep{}}, {}, NepClassifierOptions{}, kLaserHeightM, &out, &error));
   EXPECT_NE(error.find("1 NEPs for 2 beams"), std::string::npos) << error;
   EXPECT_FALSE(ClassifyNeps(scan, {Nep{}, Nep{}}, {true}, NepClassifierOptions{}, kLaserHeightM,
                             &out, &error));

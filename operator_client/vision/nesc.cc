@@ -63,8 +63,8 @@ const char* StereoNepKindName(StereoNepKind kind) {
 }
 
 bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& scan,
-             const math::CameraModel& right_camera, const NescOptions& options, double edge_threshold_m, NescResult* out,
-             std::string* error) {
+             const math::CameraModel& right_camera, const NescOptions& options,
+             double edge_threshold_m, NescResult* out, std::string* error) {
   assert(out != nullptr);
   const size_t n = scan.ranges_m.size();
   *out = NescResult{};
@@ -77,8 +77,8 @@ bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& sca
   if (left.neps.size() != n || right.neps.size() != n) {
     if (error != nullptr) {
       std::ostringstream why;
-      why << "NESC needs one NEP per beam in each eye (beams " << n << ", left "
-          << left.neps.size() << ", right " << right.neps.size() << ")";
+      why << "NESC needs one NEP per beam in each eye (beams " << n << ", left " << left.neps.size()
+          << ", right " << right.neps.size() << ")";
       *error = why.str();
     }
     return false;
@@ -115,8 +115,7 @@ bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& sca
             RelateNepToLaser(r.distance_m, range_m, edge_threshold_m) == NepRelation::kAgrees;
         if (left_agrees || right_agrees) {
           ++out->disagree_resolved;
-          const bool take_left =
-              left_agrees && (!right_agrees || l.distance_m <= r.distance_m);
+          const bool take_left = left_agrees && (!right_agrees || l.distance_m <= r.distance_m);
           selected = take_left ? l : r;
         } else {
           // Neither agrees: both would be disregarded; keep the nearer for display/debugging.

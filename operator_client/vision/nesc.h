@@ -67,10 +67,10 @@ struct NescResult {
   // Per beam: the NEP to classify (found = false when none); reliable = kMatched. Its floor
   // point is in the laser frame and its pixel is in the right image.
   std::vector<Nep> selected;
-  int matched = 0;              // reliable NEPs
-  int one_eye = 0;              // kLeftOnly + kRightOnly
-  int disagree = 0;             // kDisagree
-  int disagree_resolved = 0;    // kDisagree beams where one NEP agreed with the laser
+  int matched = 0;            // reliable NEPs
+  int one_eye = 0;            // kLeftOnly + kRightOnly
+  int disagree = 0;           // kDisagree
+  int disagree_resolved = 0;  // kDisagree beams where one NEP agreed with the laser
   StereoOffsetEstimate offset;
 };
 
@@ -79,7 +79,7 @@ struct NescResult {
 // hint are in the right image). `edge_threshold_m` is
 // edgeTh. Returns false with `error` on size mismatches or invalid options (out: no NEPs).
 bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& scan,
-             const math::CameraModel& right_camera, const NescOptions& options, double edge_threshold_m, NescResult* out,
-             std::string* error);
+             const math::CameraModel& right_camera, const NescOptions& options,
+             double edge_threshold_m, NescResult* out, std::string* error);
 
 }  // namespace mostar::vision

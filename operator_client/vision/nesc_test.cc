@@ -17,15 +17,15 @@ struct Rig {
 
 LaserScan ScanOf(std::vector<float> ranges_m) {
   LaserScan scan;
-  scan.angle_min_rad = -0.05f;
-  scan.angle_increment_rad = 0.05f;
+  scan.angle_min_rad = -0.01f;
+  scan.angle_increment_rad = 0.01f;
   scan.ranges_m = std::move(ranges_m);
   return scan;
 }
 
 // A NEP as NED would report it in `camera`'s image.
-Nep NepAt(const LaserScan& scan, size_t beam, double distance_m,
-          const math::CameraModel& camera, double row_shift_px = 0.0) {
+Nep NepAt(const LaserScan& scan, size_t beam, double distance_m, const math::CameraModel& camera,
+          double row_shift_px = 0.0) {
   Nep nep;
   nep.found = true;
   nep.distance_m = distance_m;
@@ -41,7 +41,7 @@ NedResult Ned(std::vector<Nep> neps) {
 }
 
 NescResult RunNescOn(const NedResult& left, const NedResult& right, const LaserScan& scan,
-               const Rig& rig, NescOptions options = NescOptions{}) {
+                     const Rig& rig, NescOptions options = NescOptions{}) {
   NescResult out;
   std::string error;
   EXPECT_TRUE(RunNesc(left, right, scan, rig.right, options, kEdgeThresholdM, &out, &error))
@@ -52,8 +52,8 @@ NescResult RunNescOn(const NedResult& left, const NedResult& right, const LaserS
 NepClassification Classify(const LaserScan& scan, const NescResult& nesc) {
   NepClassification out;
   std::string error;
-  EXPECT_TRUE(ClassifyNeps(scan, nesc.selected, {}, NepClassifierOptions{}, kLaserHeightM, &out,
-                           &error))
+  EXPECT_TRUE(
+      ClassifyNeps(scan, nesc.selected, {}, NepClassifierOptions{}, kLaserHeightM, &out, &error))
       << error;
   return out;
 }
@@ -62,9 +62,8 @@ TEST(NescTest, OneEyeArtifactIsUnreliableAndRemoved) {
   const Rig rig;
   const LaserScan scan = ScanOf({3.0f, 3.0f, 3.0f});
   // The right eye sees a dark blob at 1.5 m on beam 1; the left eye sees nothing there.
-  const NescResult nesc =
-      RunNescOn(Ned({Nep{}, Nep{}, Nep{}}), Ned({Nep{}, NepAt(scan, 1, 1.5, rig.right), Nep{}}), scan,
-          rig);
+  const NescResult nesc = RunNescOn(Ned({Nep{}, Nep{}, Nep{}}),
+                                    Ned({Nep{}, NepAt(scan, 1, 1.5, rig.right), Nep{}}), scan, rig);
   EXPECT_EQ(nesc.kinds[1], StereoNepKind::kRightOnly);
   EXPECT_FALSE(nesc.selected[1].reliable);
   EXPECT_EQ(nesc.one_eye, 1);
@@ -76,8 +75,9 @@ TEST(NescTest, OneEyeArtifactIsUnreliableAndRemoved) {
 TEST(NescTest, RealEdgeInBothEyesBecomesOneReliableNepAtTheMidpoint) {
   const Rig rig;
   const LaserScan scan = ScanOf({3.0f, 3.0f, 3.0f});
-  const NescResult nesc = RunNescOn(Ned({Nep{}, NepAt(scan, 1, 1.48, rig.left), Nep{}}),
-                              Ned({Nep{}, NepAt(scan, 1, 1.52, rig.right), Nep{}}), scan, rig);
+  const NescResult nesc =
+      RunNescOn(Ned({Nep{}, NepAt(scan, 1, 1.48, rig.left), Nep{}}),
+                Ned({Nep{}, NepAt(scan, 1, 1.52, rig.right), Nep{}}), scan, rig);
   EXPECT_EQ(nesc.kinds[1], StereoNepKind::kMatched);
   EXPECT_TRUE(nesc.selected[1].reliable);
   EXPECT_NEAR(nesc.selected[1].distance_m, 1.50, 1e-12);
@@ -92,7 +92,7 @@ TEST(NescTest, ReliableNepCorrectsTheOverlay) {
   const Rig rig;
   const LaserScan scan = ScanOf({2.0f});
   const NescResult nesc = RunNescOn(Ned({NepAt(scan, 0, 2.05, rig.left)}),
-                              Ned({NepAt(scan, 0, 2.07, rig.right)}), scan, rig);
+                                    Ned({NepAt(scan, 0, 2.07, rig.right)}), scan, rig);
   const NepClassification out = Classify(scan, nesc);
   EXPECT_EQ(out.beams[0].relation, NepRelation::kAgrees);
   EXPECT_NEAR(out.corrected_scan.ranges_m[0], 2.06f, 1e-6);
@@ -104,7 +104,7 @@ TEST(NescTest, BothUnreliableAndBothAgreeingTheNearerWins) {
   NescOptions options;
   options.stereo_threshold_m = 0.05;  // 0.12 apart: both unreliable, both within edgeTh
   const NescResult nesc = RunNescOn(Ned({NepAt(scan, 0, 2.07, rig.left)}),
-                              Ned({NepAt(scan, 0, 1.95, rig.right)}), scan, rig, options);
+                                    Ned({NepAt(scan, 0, 1.95, rig.right)}), scan, rig, options);
   EXPECT_EQ(nesc.kinds[0], StereoNepKind::kDisagree);
   EXPECT_EQ(nesc.disagree_resolved, 1);
   EXPECT_FALSE(nesc.selected[0].reliable);
@@ -118,7 +118,7 @@ TEST(NescTest, BothUnreliableOnlyTheAgreeingOneCounts) {
   const Rig rig;
   const LaserScan scan = ScanOf({2.0f});
   const NescResult nesc = RunNescOn(Ned({NepAt(scan, 0, 1.2, rig.left)}),
-                              Ned({NepAt(scan, 0, 2.04, rig.right)}), scan, rig);
+                                    Ned({NepAt(scan, 0, 2.04, rig.right)}), scan, rig);
   EXPECT_NEAR(nesc.selected[0].distance_m, 2.04, 1e-12);
   const NepClassification out = Classify(scan, nesc);
   EXPECT_EQ(out.beams[0].relation, NepRelation::kAgrees);
@@ -129,7 +129,7 @@ TEST(NescTest, BothUnreliableAndNeitherAgreesNothingIsUsed) {
   const Rig rig;
   const LaserScan scan = ScanOf({3.0f});
   const NescResult nesc = RunNescOn(Ned({NepAt(scan, 0, 1.0, rig.left)}),
-                              Ned({NepAt(scan, 0, 1.6, rig.right)}), scan, rig);
+                                    Ned({NepAt(scan, 0, 1.6, rig.right)}), scan, rig);
   EXPECT_EQ(nesc.disagree_resolved, 0);
   const NepClassification out = Classify(scan, nesc);
   EXPECT_EQ(out.beams[0].relation, NepRelation::kNone);
@@ -157,7 +157,7 @@ TEST(NescTest, NoOffsetHintFromTooFewSamples) {
   const Rig rig;
   const LaserScan scan = ScanOf({3.0f});
   const NescResult nesc = RunNescOn(Ned({NepAt(scan, 0, 2.0, rig.left)}),
-                              Ned({NepAt(scan, 0, 2.0, rig.right)}), scan, rig);
+                                    Ned({NepAt(scan, 0, 2.0, rig.right)}), scan, rig);
   EXPECT_FALSE(nesc.offset.valid);
   EXPECT_EQ(nesc.offset.samples, 1);
 }

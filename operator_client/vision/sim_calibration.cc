@@ -1,9 +1,14 @@
 #include "operator_client/vision/sim_calibration.h"
 
+#include <cstdlib>
+
+#include "robot_server/sim/laser_raycast.h"
+#include "robot_server/sim/scene.h"
+
 namespace mostar::vision {
 
-math::LaserCameraCalibration MathCalibrationFromSim(const sim::LaserCameraCalibration& sim,
-                                                    Eye eye, double laser_height_m) {
+math::LaserCameraCalibration MathCalibrationFromSim(const sim::LaserCameraCalibration& sim, Eye eye,
+                                                    double laser_height_m) {
   math::LaserCameraCalibration c;
   c.image_width_px = sim.width_px;
   c.image_height_px = sim.height_px;
@@ -27,6 +32,22 @@ std::shared_ptr<const math::CameraModel> SimCameraModel(const sim::LaserCameraCa
   return std::make_shared<const math::CameraModel>(
       MathCalibrationFromSim(sim, eye, laser_height_m),
       eye == Eye::kLeft ? math::Eye::kLeft : math::Eye::kRight);
+}
+
+std::string SourceDir() {
+  const char* dir = std::getenv("MOSTAR_SOURCE_DIR");
+  return dir != nullptr ? dir : ".";
+}
+
+bool LoadSimScene(const std::string& name, sim::proto::Scene* scene, std::string* error) {
+  return sim::LoadScene(SourceDir() + "/deploy/scenes/" + name + ".pbtxt", scene, error);
+}
+
+std::vector<float> TrueBaseDistances(const sim::SimWorld& world, const Pose2D& world_from_base) {
+  sim::LaserParams floor_level = world.laser_params();
+  floor_level.height_m = 0.01;
+  floor_level.pitch_rad = 0.0;
+  return sim::TrueRangesAt(world.world(), floor_level, world_from_base);
 }
 
 }  // namespace mostar::vision

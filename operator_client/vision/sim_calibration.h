@@ -3,19 +3,32 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "common/math/camera_model.h"
 #include "robot_server/sim/ground_truth.h"
+#include "robot_server/sim/scene.pb.h"
+#include "robot_server/sim/sim_world.h"
 
 namespace mostar::vision {
 
 // The simulator places cameras in laser-frame coordinates (x forward, y left, z up; left eye at
 // +baseline/2 along y); common/math uses the thesis' camera_x (right), camera_y (up), camera_z
 // (ahead). The right eye may have its own principal point row, hence a calibration per eye.
-math::LaserCameraCalibration MathCalibrationFromSim(const sim::LaserCameraCalibration& sim,
-                                                    Eye eye, double laser_height_m);
+math::LaserCameraCalibration MathCalibrationFromSim(const sim::LaserCameraCalibration& sim, Eye eye,
+                                                    double laser_height_m);
 
 std::shared_ptr<const math::CameraModel> SimCameraModel(const sim::LaserCameraCalibration& sim,
                                                         Eye eye, double laser_height_m);
+
+// The repository root: $MOSTAR_SOURCE_DIR (set by CTest), else ".".
+std::string SourceDir();
+
+// Loads deploy/scenes/<name>.pbtxt from SourceDir().
+bool LoadSimScene(const std::string& name, sim::proto::Scene* scene, std::string* error);
+
+// Floor distance from the robot base to the nearest obstacle footprint, per beam of the laser
+// described by `laser` (same beams as its scans): a raycast 1 cm above the floor. +Inf: none.
+std::vector<float> TrueBaseDistances(const sim::SimWorld& world, const Pose2D& world_from_base);
 
 }  // namespace mostar::vision

@@ -90,8 +90,8 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) const 
       out->left_edges = EdgeImages{};
       out->right_edges = EdgeImages{};
     }
-    out->processing_time = std::chrono::duration_cast<Duration>(
-        std::chrono::steady_clock::now() - start);
+    out->processing_time =
+        std::chrono::duration_cast<Duration>(std::chrono::steady_clock::now() - start);
   };
   std::string error;
   if (input.left_camera == nullptr || (options_.stereo && input.right_camera == nullptr)) {
@@ -100,13 +100,12 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) const 
   const size_t beams = input.scan.ranges_m.size();
   if (!input.potential_outliers.empty() && input.potential_outliers.size() != beams) {
     std::ostringstream why;
-    why << "got " << input.potential_outliers.size() << " outlier labels for " << beams
-        << " beams";
+    why << "got " << input.potential_outliers.size() << " outlier labels for " << beams << " beams";
     return finish(false, why.str());
   }
 
-  const auto run_eye = [&](const cv::Mat& image, const math::CameraModel& camera,
-                           const char* name, EdgeImages* edges, NedResult* ned) {
+  const auto run_eye = [&](const cv::Mat& image, const math::CameraModel& camera, const char* name,
+                           EdgeImages* edges, NedResult* ned) {
     if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
       std::ostringstream why;
       why << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
@@ -127,8 +126,7 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) const 
     return finish(false, error);
   }
   if (options_.stereo) {
-    if (!run_eye(input.right, *input.right_camera, "right", &out->right_edges,
-                 &out->right_ned)) {
+    if (!run_eye(input.right, *input.right_camera, "right", &out->right_edges, &out->right_ned)) {
       return finish(false, error);
     }
     if (!RunNesc(out->left_ned, out->right_ned, input.scan, *input.right_camera, options_.nesc,

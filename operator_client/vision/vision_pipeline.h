@@ -9,11 +9,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "common/math/camera_model.h"
 #include "common/time/time.h"
@@ -49,11 +48,11 @@ VisionOptions FromProto(const proto::VisionConfig& config);
 // size; `right` may be empty in monoscopic mode. cv::Mat shares its buffer: the caller must not
 // write into the images after handing them over.
 struct VisionInput {
-  Time stamp;              // capture time of the images (the result carries it back)
-  uint64_t sequence = 0;   // frame pair counter of the producer
+  Time stamp;             // capture time of the images (the result carries it back)
+  uint64_t sequence = 0;  // frame pair counter of the producer
   cv::Mat left;
   cv::Mat right;
-  LaserScan scan;          // laser frame, the scan matched to the images
+  LaserScan scan;  // laser frame, the scan matched to the images
   // Fusion's discontinuity labelling: one flag per beam, or empty.
   std::vector<bool> potential_outliers;
   std::shared_ptr<const math::CameraModel> left_camera;   // Eye::kLeft (or kMono)
@@ -70,10 +69,10 @@ struct VisionResult {
   EdgeImages right_edges;
   NedResult left_ned;
   NedResult right_ned;
-  NescResult nesc;               // stereo only
-  std::vector<Nep> selected;     // per beam, the NEPs that were classified
+  NescResult nesc;            // stereo only
+  std::vector<Nep> selected;  // per beam, the NEPs that were classified
   NepClassification classification;
-  Duration processing_time{0};   // wall time of Process()
+  Duration processing_time{0};  // wall time of Process()
 };
 
 class VisionPipeline {

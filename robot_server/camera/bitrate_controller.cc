@@ -180,8 +180,8 @@ void BitrateController::Control(SteadyTime now) {
     // restarts at its minimum there, so the prediction made at maximum quality is pessimistic.
     const double up_scale = LevelScale(level_ - 1);
     const double scale = LevelScale(level_);
-    const double predicted = stats_.offered_bits_per_s * (up_scale * up_scale) /
-                             (scale * scale) * LevelDivisor(level_) / LevelDivisor(level_ - 1);
+    const double predicted = stats_.offered_bits_per_s * (up_scale * up_scale) / (scale * scale) *
+                             LevelDivisor(level_) / LevelDivisor(level_ - 1);
     if (unlimited || options_.headroom * target > 1.05 * predicted) {
       --level_;
       down_since_.reset();

@@ -34,10 +34,10 @@
 namespace mostar::camera {
 
 struct BitrateControllerOptions {
-  double target_bits_per_s = 0;  // 0 = unlimited (LAN)
-  int min_quality = 30;          // 1..max_quality
-  int max_quality = 90;          // min_quality..100
-  int initial_quality = 80;      // min_quality..max_quality
+  double target_bits_per_s = 0;                   // 0 = unlimited (LAN)
+  int min_quality = 30;                           // 1..max_quality
+  int max_quality = 90;                           // min_quality..100
+  int initial_quality = 80;                       // min_quality..max_quality
   std::vector<double> scales = {1.0, 0.75, 0.5};  // resolution ladder, decreasing, in (0, 1]
   int max_frame_rate_divisor = 4;                 // >= 1; 1 = never reduce the frame rate
   double headroom = 0.9;                          // aim at this fraction of the target, (0, 1]
@@ -55,16 +55,16 @@ struct EncodeSettings {
 };
 
 struct BitrateStats {
-  double target_bits_per_s = 0;     // configured; 0 = unlimited
-  double link_bits_per_s = 0;       // ack-clock estimate; 0 = no congestion seen
-  double offered_bits_per_s = 0;    // encoded pairs, sent or not
-  double achieved_bits_per_s = 0;   // sent pairs only
-  double skipped_fraction = 0;      // of the encoded pairs in the window
-  double pair_rate_hz = 0;          // encoded pairs per second
+  double target_bits_per_s = 0;    // configured; 0 = unlimited
+  double link_bits_per_s = 0;      // ack-clock estimate; 0 = no congestion seen
+  double offered_bits_per_s = 0;   // encoded pairs, sent or not
+  double achieved_bits_per_s = 0;  // sent pairs only
+  double skipped_fraction = 0;     // of the encoded pairs in the window
+  double pair_rate_hz = 0;         // encoded pairs per second
   int quality = 0;
   double scale = 1.0;
   int frame_rate_divisor = 1;
-  int level = 0;                    // ladder position, 0 = full resolution and rate
+  int level = 0;  // ladder position, 0 = full resolution and rate
 };
 
 class BitrateController {
@@ -99,8 +99,8 @@ class BitrateController {
   int pairs_since_control_ = 0;
   SteadyTime last_level_change_;
   bool has_level_change_ = false;
-  double link_bits_per_s_ = 0;  // 0 = no estimate (no congestion seen)
-  double mean_pair_bytes_ = 0;  // EWMA of encoded pair sizes; 0 = none yet
+  double link_bits_per_s_ = 0;            // 0 = no estimate (no congestion seen)
+  double mean_pair_bytes_ = 0;            // EWMA of encoded pair sizes; 0 = none yet
   std::optional<SteadyTime> down_since_;  // since when a step down is wanted
   BitrateStats stats_;
 };

@@ -1,8 +1,8 @@
 #include "robot_server/camera/bitrate_controller.h"
 
-#include <algorithm>
-
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "robot_server/camera/fake_stereo_camera.h"
 
@@ -28,7 +28,7 @@ struct RunResult {
 // ack-clocked link of that capacity (a pair is skipped while the previous one is in flight).
 template <typename SizeFn>
 RunResult Simulate(BitrateController* controller, double seconds, SizeFn size_of,
-              double link_bits_per_s = 0, double rtt_s = 0.005) {
+                   double link_bits_per_s = 0, double rtt_s = 0.005) {
   SteadyTime now(std::chrono::seconds(100));
   SteadyTime link_free = now;
   const Duration period = FromSeconds(1.0 / kFrameRateHz);
@@ -109,18 +109,19 @@ TEST(BitrateControllerTest, AckClockSkipsBringTheStreamUnderTheLinkRate) {
   EXPECT_LT(result.stats.quality, options.max_quality);
 }
 
-// The same with real JPEG sizes: synthetic camera-like images encoded at the controller's
-// settings.
+// The same with real JPEG sizes: synthetic camera-like images (320x240, to keep the test
+// short) encoded at the controller's settings.
 TEST(BitrateControllerTest, ConvergesOnRealJpegSizes) {
+  constexpr double kTarget = 1.5e6;
   BitrateControllerOptions options;
-  options.target_bits_per_s = 6e6;
+  options.target_bits_per_s = kTarget;
   BitrateController controller(options);
   JpegCompressor compressor;
   std::vector<StereoImagePair> frames;
   for (uint64_t i = 0; i < 8; ++i) {
     StereoImagePair pair;
-    pair.left = MakeSyntheticImage(640, 480, i * 5, false);
-    pair.right = MakeSyntheticImage(640, 480, i * 5, true);
+    pair.left = MakeSyntheticImage(320, 240, i * 5, false);
+    pair.right = MakeSyntheticImage(320, 240, i * 5, true);
     frames.push_back(pair);
   }
   size_t index = 0;
@@ -132,8 +133,8 @@ TEST(BitrateControllerTest, ConvergesOnRealJpegSizes) {
     return out.left.data.size() + out.right.data.size();
   };
   const RunResult result = Simulate(&controller, 15, jpeg_bytes);
-  EXPECT_LE(result.tail_offered_bits_per_s, 6e6 * 1.05);
-  EXPECT_GE(result.tail_offered_bits_per_s, 6e6 * 0.6);
+  EXPECT_LE(result.tail_offered_bits_per_s, kTarget * 1.05);
+  EXPECT_GE(result.tail_offered_bits_per_s, kTarget * 0.6);
 }
 
 TEST(BitrateControllerTest, OptionsValidationNamesTheProblem) {

@@ -2,6 +2,7 @@
 // choice: libjpeg-turbo's libjpeg API (JpegEncoder) against OpenCV's imencode on the same
 // library.
 #include <benchmark/benchmark.h>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "robot_server/camera/fake_stereo_camera.h"

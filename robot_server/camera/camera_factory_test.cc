@@ -1,9 +1,9 @@
 #include "robot_server/camera/camera_factory.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "common/config/config_loader.h"
 #include "common/time/fake_clock.h"
@@ -30,7 +30,8 @@ TEST(CameraFactoryTest, EveryShippedCameraConfigLoadsAndValidates) {
     EXPECT_TRUE(ValidateCameraConfig(config, &error)) << name << ": " << error;
     CameraPipelineOptions options = MakePipelineOptions(config);
     EXPECT_TRUE(options.IsValid(&error)) << name << ": " << error;
-    for (const std::string& file : {config.left_intrinsics_file(), config.right_intrinsics_file()}) {
+    for (const std::string& file :
+         {config.left_intrinsics_file(), config.right_intrinsics_file()}) {
       if (!file.empty()) {
         EXPECT_TRUE(fs::exists(SourceDir() + "/" + file)) << name << ": " << file;
       }

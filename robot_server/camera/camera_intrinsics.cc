@@ -1,7 +1,6 @@
 #include "robot_server/camera/camera_intrinsics.h"
 
 #include <cmath>
-
 #include <opencv2/core.hpp>
 
 namespace mostar::camera {
@@ -27,8 +26,8 @@ bool CameraIntrinsics::IsValid(std::string* error) const {
   }
   const size_t n = distortion.size();
   if (n != 0 && n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
-    *error = "distortion_coefficients must have 0, 4, 5, 8, 12 or 14 values, got " +
-             std::to_string(n);
+    *error =
+        "distortion_coefficients must have 0, 4, 5, 8, 12 or 14 values, got " + std::to_string(n);
     return false;
   }
   for (double d : distortion) {

@@ -10,18 +10,17 @@
 // the top-left pixel). Distortion follows OpenCV's model (4, 5, 8, 12 or 14 coefficients).
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <opencv2/core/matx.hpp>
 #include <opencv2/core/types.hpp>
+#include <string>
+#include <vector>
 
 namespace mostar::camera {
 
 struct CameraIntrinsics {
-  cv::Size image_size;                 // pixels the calibration was made at
-  cv::Matx33d camera_matrix;           // K = [fx 0 cx; 0 fy cy; 0 0 1], pixels
-  std::vector<double> distortion;      // OpenCV order: k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]
+  cv::Size image_size;             // pixels the calibration was made at
+  cv::Matx33d camera_matrix;       // K = [fx 0 cx; 0 fy cy; 0 0 1], pixels
+  std::vector<double> distortion;  // OpenCV order: k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]
   // fx, fy > 0, principal point inside the image, K's last row (0 0 1), a valid count of
   // distortion coefficients.
   bool IsValid(std::string* error) const;

@@ -1,13 +1,12 @@
 #include "robot_server/camera/camera_intrinsics.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 namespace mostar::camera {
 namespace {
@@ -84,16 +83,17 @@ TEST_F(CameraIntrinsicsTest, UnparsableFileIsAClearError) {
 TEST_F(CameraIntrinsicsTest, MissingKeysAndBadValuesAreNamed) {
   CameraIntrinsics loaded;
   std::string error;
-  const std::string no_size = Write("no_size.yaml",
-                                    "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n  rows: 3\n"
-                                    "  cols: 3\n  dt: d\n  data: [500, 0, 320, 0, 500, 240, 0, 0, 1]\n");
+  const std::string no_size =
+      Write("no_size.yaml",
+            "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n  rows: 3\n"
+            "  cols: 3\n  dt: d\n  data: [500, 0, 320, 0, 500, 240, 0, 0, 1]\n");
   EXPECT_FALSE(LoadCameraIntrinsics(no_size, &loaded, &error));
   EXPECT_NE(error.find("image_width"), std::string::npos) << error;
 
-  const std::string negative_focal = Write(
-      "negative.yaml",
-      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\ncamera_matrix: !!opencv-matrix\n"
-      "  rows: 3\n  cols: 3\n  dt: d\n  data: [-500, 0, 320, 0, 500, 240, 0, 0, 1]\n");
+  const std::string negative_focal =
+      Write("negative.yaml",
+            "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\ncamera_matrix: !!opencv-matrix\n"
+            "  rows: 3\n  cols: 3\n  dt: d\n  data: [-500, 0, 320, 0, 500, 240, 0, 0, 1]\n");
   EXPECT_FALSE(LoadCameraIntrinsics(negative_focal, &loaded, &error));
   EXPECT_NE(error.find("fx and fy"), std::string::npos) << error;
 

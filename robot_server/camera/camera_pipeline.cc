@@ -47,7 +47,11 @@ void CameraPipeline::Start() {
   std::lock_guard<std::mutex> lock(stop_mutex_);
   if (started_ || stopping_) return;
   started_ = true;
-  SetState(DeviceState::kWarn, "opening camera");
+  {
+    std::lock_guard<std::mutex> state_lock(mutex_);
+    state_ = DeviceState::kWarn;
+    message_ = "opening camera";
+  }
   capture_thread_ = std::thread([this] { CaptureLoop(); });
   compress_thread_ = std::thread([this] { CompressLoop(); });
 }

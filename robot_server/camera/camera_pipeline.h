@@ -37,7 +37,7 @@ enum class Delivery {
 struct CameraPipelineOptions {
   std::string name = "stereo_camera";  // DeviceHealth name
   Duration grab_timeout = std::chrono::milliseconds(500);
-  int max_consecutive_timeouts = 4;     // then the camera is closed and reopened
+  int max_consecutive_timeouts = 4;  // then the camera is closed and reopened
   Duration reopen_period = std::chrono::seconds(1);
   bool parallel_compression = true;
   BitrateControllerOptions bitrate;

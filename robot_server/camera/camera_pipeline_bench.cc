@@ -49,12 +49,12 @@ int Main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--left")) left = argv[i + 1];
     if (!std::strcmp(argv[i], "--right")) right = argv[i + 1];
   }
-  const Row rows[] = {{"q80 parallel", 80, true}, {"q80 serial", 80, false},
-                      {"q50 parallel", 50, true}};
+  const Row rows[] = {
+      {"q80 parallel", 80, true}, {"q80 serial", 80, false}, {"q50 parallel", 50, true}};
   std::printf("source: %s, 640x480 stereo, 30 Hz paced, %.0f s per row\n",
               left.empty() ? "fake camera" : "file camera", seconds);
-  std::printf("%-14s %8s %8s %9s %9s %10s %10s\n", "setting", "pairs", "fps", "p50 ms",
-              "p95 ms", "cpu %/s", "KB/pair");
+  std::printf("%-14s %8s %8s %9s %9s %10s %10s\n", "setting", "pairs", "fps", "p50 ms", "p95 ms",
+              "cpu %/s", "KB/pair");
   for (const Row& row : rows) {
     std::unique_ptr<StereoCamera> camera;
     if (left.empty()) {

@@ -1,9 +1,9 @@
 #include "robot_server/camera/camera_pipeline.h"
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <thread>
-
-#include <gtest/gtest.h>
 
 #include "robot_server/camera/fake_stereo_camera.h"
 #include "robot_server/camera/jpeg_compressor.h"

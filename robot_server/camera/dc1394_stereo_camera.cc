@@ -4,9 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <utility>
-
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 namespace mostar::camera {
 namespace {
@@ -71,8 +70,8 @@ dc1394video_frame_t* Dequeue(dc1394camera_t* camera, std::chrono::steady_clock::
     const auto left = deadline - std::chrono::steady_clock::now();
     if (left <= std::chrono::steady_clock::duration::zero()) return nullptr;
     pollfd fd{dc1394_capture_get_fileno(camera), POLLIN, 0};
-    const int ms = static_cast<int>(
-        std::chrono::duration_cast<std::chrono::milliseconds>(left).count() + 1);
+    const int ms =
+        static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(left).count() + 1);
     if (poll(&fd, 1, ms) < 0) {
       *failed = true;
       return nullptr;
@@ -133,7 +132,8 @@ bool Dc1394StereoCamera::Configure(dc1394camera_t* camera, const char* eye, bool
       speed >= DC1394_ISO_SPEED_800 ? DC1394_OPERATION_MODE_1394B : DC1394_OPERATION_MODE_LEGACY;
   if (!Check(dc1394_video_set_operation_mode(camera, operation), who + ": operation mode", error) ||
       !Check(dc1394_video_set_iso_speed(camera, speed), who + ": ISO speed", error) ||
-      !Check(dc1394_video_set_mode(camera, mode->mode), who + ": video mode " + mode->name, error) ||
+      !Check(dc1394_video_set_mode(camera, mode->mode), who + ": video mode " + mode->name,
+             error) ||
       !Check(dc1394_video_set_framerate(camera, rate->rate), who + ": frame rate", error)) {
     return false;
   }
@@ -254,8 +254,8 @@ GrabResult Dc1394StereoCamera::Grab(Duration timeout, StereoImagePair* pair) {
   };
   dc1394video_frame_t* left = newest(left_);
   dc1394video_frame_t* right = left != nullptr ? newest(right_) : nullptr;
-  const int64_t max_skew_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                                  options_.max_skew).count();
+  const int64_t max_skew_us =
+      std::chrono::duration_cast<std::chrono::microseconds>(options_.max_skew).count();
   while (left != nullptr && right != nullptr) {
     const int64_t skew_us =
         static_cast<int64_t>(left->timestamp) - static_cast<int64_t>(right->timestamp);
@@ -302,8 +302,8 @@ GrabResult Dc1394StereoCamera::Grab(Duration timeout, StereoImagePair* pair) {
   };
   convert(left, &pair->left);
   convert(right, &pair->right);
-  const int64_t stamp_us = (static_cast<int64_t>(left->timestamp) +
-                            static_cast<int64_t>(right->timestamp)) / 2;
+  const int64_t stamp_us =
+      (static_cast<int64_t>(left->timestamp) + static_cast<int64_t>(right->timestamp)) / 2;
   pair->stamp = FromUnixNanos(stamp_us * 1000);
   pair->sequence = sequence_++;
   dc1394_capture_enqueue(left_, left);
@@ -313,7 +313,7 @@ GrabResult Dc1394StereoCamera::Grab(Duration timeout, StereoImagePair* pair) {
 
 void Dc1394StereoCamera::Close() {
   const std::pair<dc1394camera_t**, bool*> cameras[] = {{&left_, &left_capturing_},
-                                                         {&right_, &right_capturing_}};
+                                                        {&right_, &right_capturing_}};
   for (const auto& [camera, capturing] : cameras) {
     if (*camera == nullptr) continue;
     if (*capturing) {

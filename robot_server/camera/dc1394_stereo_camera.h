@@ -11,10 +11,10 @@
 // Not thread-safe (one capture thread).
 #pragma once
 
+#include <dc1394/dc1394.h>
+
 #include <cstdint>
 #include <string>
-
-#include <dc1394/dc1394.h>
 
 #include "common/time/time.h"
 #include "robot_server/camera/stereo_camera.h"
@@ -24,8 +24,8 @@ namespace mostar::camera {
 class Dc1394StereoCamera final : public StereoCamera {
  public:
   struct Options {
-    uint64_t left_guid = 0;    // 0 = first camera on the bus
-    uint64_t right_guid = 0;   // 0 = second camera on the bus
+    uint64_t left_guid = 0;   // 0 = first camera on the bus
+    uint64_t right_guid = 0;  // 0 = second camera on the bus
     // IIDC format-0/1/2 mode "<width>x<height>_<coding>", coding YUV422 | RGB8 | MONO8.
     std::string video_mode = "640x480_YUV422";
     // MONO8 modes of colour sensors: "RGGB", "GRBG", "GBRG" or "BGGR"; empty = grey.

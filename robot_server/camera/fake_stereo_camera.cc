@@ -1,10 +1,9 @@
 #include "robot_server/camera/fake_stereo_camera.h"
 
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <thread>
 #include <utility>
-
-#include <opencv2/imgproc.hpp>
 
 namespace mostar::camera {
 

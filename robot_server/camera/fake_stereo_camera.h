@@ -33,8 +33,8 @@ class FakeStereoCamera final : public StereoCamera {
     int width_px = 640;
     int height_px = 480;
     double frame_rate_hz = 30;
-    bool free_run = false;  // synthesise pairs when the script is empty
-    bool paced = false;     // free_run pairs at frame_rate_hz in real time
+    bool free_run = false;                          // synthesise pairs when the script is empty
+    bool paced = false;                             // free_run pairs at frame_rate_hz in real time
     const Clock* clock = &SystemClock::Instance();  // stamps pairs; not owned
   };
 
@@ -42,13 +42,13 @@ class FakeStereoCamera final : public StereoCamera {
   FakeStereoCamera() : FakeStereoCamera(Options()) {}
 
   // Script (thread-safe).
-  void QueuePairs(int count);             // synthetic pairs, stamped at Grab() time
-  void QueuePair(StereoImagePair pair);   // exactly this pair (sequence/stamp kept)
-  void QueueTimeout();                    // one Grab() returns kTimeout at once
-  void QueueDeviceLost();                 // one Grab() returns kDeviceLost and closes
+  void QueuePairs(int count);            // synthetic pairs, stamped at Grab() time
+  void QueuePair(StereoImagePair pair);  // exactly this pair (sequence/stamp kept)
+  void QueueTimeout();                   // one Grab() returns kTimeout at once
+  void QueueDeviceLost();                // one Grab() returns kDeviceLost and closes
   void QueueEndOfStream();
-  void SetOpenFailures(int count);        // the next `count` Open() calls fail
-  void Unplug();                          // Grab() reports loss; Open() fails until Replug()
+  void SetOpenFailures(int count);  // the next `count` Open() calls fail
+  void Unplug();                    // Grab() reports loss; Open() fails until Replug()
   void Replug();
 
   int open_calls() const;

@@ -1,6 +1,7 @@
 #include "robot_server/camera/fake_stereo_camera.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/core.hpp>
 
 #include "common/time/fake_clock.h"

@@ -1,11 +1,10 @@
 #include "robot_server/camera/file_stereo_camera.h"
 
 #include <algorithm>
-#include <thread>
-
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 namespace mostar::camera {
 namespace {
@@ -21,7 +20,9 @@ bool ToBgr(cv::Mat* image) {
   return image->channels() == 3;
 }
 
-SteadyTime RealSteadyNow() { return SteadyTime(std::chrono::steady_clock::now().time_since_epoch()); }
+SteadyTime RealSteadyNow() {
+  return SteadyTime(std::chrono::steady_clock::now().time_since_epoch());
+}
 
 }  // namespace
 
@@ -122,7 +123,8 @@ bool FileStereoCamera::ReadNext(cv::Mat* left, cv::Mat* right, std::string* erro
       *left = cv::imread(left_path, cv::IMREAD_UNCHANGED);
       *right = cv::imread(right_path, cv::IMREAD_UNCHANGED);
       if (!ToBgr(left) || !ToBgr(right)) {
-        *error = "file camera: cannot read image '" + (left->empty() ? left_path : right_path) + "'";
+        *error =
+            "file camera: cannot read image '" + (left->empty() ? left_path : right_path) + "'";
         return false;
       }
       break;

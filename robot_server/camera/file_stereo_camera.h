@@ -9,10 +9,9 @@
 #pragma once
 
 #include <memory>
+#include <opencv2/videoio.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/videoio.hpp>
 
 #include "common/time/time.h"
 #include "robot_server/camera/stereo_camera.h"

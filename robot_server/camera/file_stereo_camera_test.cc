@@ -1,11 +1,10 @@
 #include "robot_server/camera/file_stereo_camera.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -139,7 +138,8 @@ TEST_F(FileStereoCameraTest, AnUnreadableImageIsAGrabErrorNotACrash) {
 TEST_F(FileStereoCameraTest, SplitsASideBySideVideo) {
   const std::string path = (dir_ / "sbs.avi").string();
   {
-    cv::VideoWriter writer(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30, cv::Size(160, 60));
+    cv::VideoWriter writer(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30,
+                           cv::Size(160, 60));
     if (!writer.isOpened()) GTEST_SKIP() << "no MJPG video writer in this OpenCV build";
     for (int i = 0; i < 4; ++i) {
       cv::Mat both(60, 160, CV_8UC3);

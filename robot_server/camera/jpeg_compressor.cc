@@ -1,12 +1,11 @@
 #include "robot_server/camera/jpeg_compressor.h"
 
 // jpeglib.h needs FILE and size_t declared first.
+#include <jpeglib.h>
+
 #include <algorithm>
 #include <csetjmp>
 #include <cstdio>
-
-#include <jpeglib.h>
-
 #include <opencv2/imgproc.hpp>
 
 namespace mostar::camera {
@@ -53,7 +52,8 @@ struct VectorDestination {
 
 void InitDestination(j_compress_ptr cinfo) {
   auto* dest = reinterpret_cast<VectorDestination*>(cinfo->dest);
-  if (dest->out->size() < 64 * 1024) dest->out->resize(std::max<size_t>(64 * 1024, dest->out->capacity()));
+  if (dest->out->size() < 64 * 1024)
+    dest->out->resize(std::max<size_t>(64 * 1024, dest->out->capacity()));
   dest->base.next_output_byte = dest->out->data();
   dest->base.free_in_buffer = dest->out->size();
 }

@@ -11,11 +11,10 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <opencv2/core/mat.hpp>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <opencv2/core/mat.hpp>
 
 #include "common/types/stereo_frame.h"
 #include "robot_server/camera/stereo_camera.h"

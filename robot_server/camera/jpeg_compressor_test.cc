@@ -1,6 +1,7 @@
 #include "robot_server/camera/jpeg_compressor.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/core.hpp>
 
 #include "robot_server/camera/fake_stereo_camera.h"

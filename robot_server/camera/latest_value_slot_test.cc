@@ -1,8 +1,8 @@
 #include "robot_server/camera/latest_value_slot.h"
 
-#include <thread>
-
 #include <gtest/gtest.h>
+
+#include <thread>
 
 namespace mostar::camera {
 namespace {

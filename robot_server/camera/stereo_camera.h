@@ -10,10 +10,9 @@
 #pragma once
 
 #include <cstdint>
+#include <opencv2/core/mat.hpp>
 #include <string>
 #include <utility>
-
-#include <opencv2/core/mat.hpp>
 
 #include "common/time/time.h"
 
@@ -47,12 +46,12 @@ struct GrabResult {
 };
 
 struct StereoCameraInfo {
-  std::string backend;        // "dc1394", "v4l2", "file", "fake", "sim"
-  std::string left_device;    // device path, GUID or file of the left eye
+  std::string backend;      // "dc1394", "v4l2", "file", "fake", "sim"
+  std::string left_device;  // device path, GUID or file of the left eye
   std::string right_device;
-  int width_px = 0;           // size of each eye's image as delivered by Grab()
+  int width_px = 0;  // size of each eye's image as delivered by Grab()
   int height_px = 0;
-  double frame_rate_hz = 0;   // nominal pair rate; 0 = unknown or unpaced
+  double frame_rate_hz = 0;  // nominal pair rate; 0 = unknown or unpaced
 };
 
 class StereoCamera {

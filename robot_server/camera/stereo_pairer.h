@@ -17,10 +17,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <string>
-
-#include <opencv2/core/mat.hpp>
 
 #include "common/time/time.h"
 #include "robot_server/camera/stereo_camera.h"

@@ -1,10 +1,9 @@
 #include "robot_server/camera/v4l2_stereo_camera.h"
 
 #include <cstdlib>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <utility>
-
-#include <opencv2/imgproc.hpp>
 
 #include "common/log/log.h"
 
@@ -45,8 +44,8 @@ bool V4l2StereoCamera::OpenDevice(const std::string& device, cv::VideoCapture* c
     const int height = static_cast<int>(capture->get(cv::CAP_PROP_FRAME_HEIGHT));
     if (width != options_.width_px || height != options_.height_px) {
       *error = "v4l2: '" + device + "' does not support " + std::to_string(options_.width_px) +
-               "x" + std::to_string(options_.height_px) + " (it offers " +
-               std::to_string(width) + "x" + std::to_string(height) + ")";
+               "x" + std::to_string(options_.height_px) + " (it offers " + std::to_string(width) +
+               "x" + std::to_string(height) + ")";
       capture->release();
       return false;
     }
@@ -137,17 +136,17 @@ GrabResult V4l2StereoCamera::Grab(Duration timeout, StereoImagePair* pair) {
   });
   if (!lost_message_.empty()) return GrabResult::Error(GrabStatus::kDeviceLost, lost_message_);
   if (!woke || !ready) {
-    return GrabResult::Error(
-        GrabStatus::kTimeout,
-        "v4l2: no matched pair (pending left " + std::to_string(pairer_.pending_left()) +
-            ", right " + std::to_string(pairer_.pending_right()) + ")");
+    return GrabResult::Error(GrabStatus::kTimeout,
+                             "v4l2: no matched pair (pending left " +
+                                 std::to_string(pairer_.pending_left()) + ", right " +
+                                 std::to_string(pairer_.pending_right()) + ")");
   }
   *pair = std::move(*ready);
   pair->sequence = sequence_++;
   const StereoPairerStats& stats = pairer_.stats();
   if (std::abs(stats.drift_ns_per_s) > 1e6) {
-    MOSTAR_LOG_EVERY_SEC(WARNING, 30) << "v4l2 stereo: cameras drift by "
-                                      << stats.drift_ns_per_s * 1e-6 << " ms/s";
+    MOSTAR_LOG_EVERY_SEC(WARNING, 30)
+        << "v4l2 stereo: cameras drift by " << stats.drift_ns_per_s * 1e-6 << " ms/s";
   }
   return GrabResult::Ok();
 }

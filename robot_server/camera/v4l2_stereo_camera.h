@@ -12,10 +12,9 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <opencv2/videoio.hpp>
 #include <string>
 #include <thread>
-
-#include <opencv2/videoio.hpp>
 
 #include "common/time/time.h"
 #include "robot_server/camera/stereo_camera.h"
@@ -26,15 +25,15 @@ namespace mostar::camera {
 class V4l2StereoCamera final : public StereoCamera {
  public:
   struct Options {
-    std::string left_device = "/dev/video0";   // path (udev symlinks work) or a number
+    std::string left_device = "/dev/video0";  // path (udev symlinks work) or a number
     std::string right_device = "/dev/video2";
     int width_px = 640;
     int height_px = 480;
     double frame_rate_hz = 30;
-    std::string fourcc = "MJPG";   // "MJPG" (two webcams on one USB bus need it) or "YUYV"
-    int exposure = -1;             // driver units; -1 = automatic
-    int gain = -1;                 // driver units; -1 = driver default
-    StereoPairerOptions pairing;   // max_skew ~ a third of the frame period
+    std::string fourcc = "MJPG";  // "MJPG" (two webcams on one USB bus need it) or "YUYV"
+    int exposure = -1;            // driver units; -1 = automatic
+    int gain = -1;                // driver units; -1 = driver default
+    StereoPairerOptions pairing;  // max_skew ~ a third of the frame period
     int max_read_failures = 10;
     const Clock* clock = &SystemClock::Instance();  // not owned
   };

@@ -81,10 +81,9 @@ void DiffDrive::Step(double dt) {
   }
   const double nx = x_m_ + dx, ny = y_m_ + dy, ntheta = theta_rad_ + dtheta;
   const double off = params_.footprint_center_x_m - params_.axle_x_m;
-  const bool blocked =
-      (v != 0 || w != 0) && collides_ &&
-      collides_(nx + off * std::cos(ntheta), ny + off * std::sin(ntheta),
-                params_.footprint_radius_m);
+  const bool blocked = (v != 0 || w != 0) && collides_ &&
+                       collides_(nx + off * std::cos(ntheta), ny + off * std::sin(ntheta),
+                                 params_.footprint_radius_m);
   if (blocked) {
     if (!in_collision_) ++collision_count_;
     in_collision_ = true;

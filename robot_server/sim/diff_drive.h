@@ -39,7 +39,7 @@ struct DriveParams {
 
 // Encoder counters as the hardware shows them, plus the unwrapped totals (ground truth).
 struct EncoderTicks {
-  uint64_t left = 0;   // wrapped to encoder_counter_bits (two's complement of the total)
+  uint64_t left = 0;  // wrapped to encoder_counter_bits (two's complement of the total)
   uint64_t right = 0;
   int64_t left_total = 0;  // unwrapped count since start; forward = positive
   int64_t right_total = 0;

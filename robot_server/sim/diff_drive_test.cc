@@ -1,11 +1,11 @@
 #include "robot_server/sim/diff_drive.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
 
-#include "robot_server/sim/world.h"
+#include <cmath>
+
 #include "robot_server/sim/sim_test_helpers.h"
+#include "robot_server/sim/world.h"
 
 namespace mostar::sim {
 namespace {
@@ -139,16 +139,14 @@ TEST(DiffDriveTest, OdometryFromTicksFollowsTheTruePath) {
 TEST(DiffDriveTest, CollisionStopsTheRobotAndIsCounted) {
   const World world(testing::OpenFloor("wall { x0_m: 2 y0_m: -5 x1_m: 2 y1_m: 5 }"));
   const DriveParams p;
-  DiffDrive drive(p, Pose2D{}, [&](double x, double y, double r) {
-    return world.CircleCollides(x, y, r);
-  });
+  DiffDrive drive(p, Pose2D{},
+                  [&](double x, double y, double r) { return world.CircleCollides(x, y, r); });
   drive.SetCommand(0.5, 0.0);
   drive.Advance(FromSeconds(10));
   EXPECT_TRUE(drive.in_collision());
   EXPECT_EQ(drive.collision_count(), 1u);
   EXPECT_EQ(drive.linear_mps(), 0.0);
-  const double front = drive.world_from_base().x_m + p.footprint_center_x_m +
-                       p.footprint_radius_m;
+  const double front = drive.world_from_base().x_m + p.footprint_center_x_m + p.footprint_radius_m;
   EXPECT_LT(front, 2.0);
   EXPECT_GT(front, 1.98);
   const int64_t ticks = drive.encoders().left_total;

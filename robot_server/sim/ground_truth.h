@@ -11,9 +11,8 @@
 
 #include <array>
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "common/types/odometry.h"
 #include "common/types/stereo_frame.h"
@@ -34,9 +33,7 @@ struct LaserCameraCalibration {
   double tilt_rad = 0.21;    // rotation about the camera x axis; positive looks down
   double baseline_m = 0.12;  // left eye at camera_y_m + baseline/2, right eye at - baseline/2
 
-  double EyeYm(Eye eye) const {
-    return camera_y_m + (eye == Eye::kLeft ? 0.5 : -0.5) * baseline_m;
-  }
+  double EyeYm(Eye eye) const { return camera_y_m + (eye == Eye::kLeft ? 0.5 : -0.5) * baseline_m; }
   double Cy(Eye eye) const { return eye == Eye::kLeft ? cy_px : right_cy_px; }
   // camera_from_laser as a row-major 3x4 matrix [R | t]: p_camera = R p_laser + t.
   std::array<double, 12> CameraFromLaser(Eye eye) const;
@@ -44,14 +41,14 @@ struct LaserCameraCalibration {
 
 // Projects a laser-frame point into an eye's image (with distortion). False when the point is
 // behind the camera (z_camera <= 1 mm); u, v may fall outside the image.
-bool ProjectLaserPoint(const LaserCameraCalibration& calibration, Eye eye, double x_m,
-                       double y_m, double z_m, double* u_px, double* v_px);
+bool ProjectLaserPoint(const LaserCameraCalibration& calibration, Eye eye, double x_m, double y_m,
+                       double z_m, double* u_px, double* v_px);
 
 // Pixel labels of a rendered image.
 enum Label : uint8_t {
-  kLabelFloor = 0,       // 1..253: obstacle id (World obstacle index + 1, clamped to 253)
+  kLabelFloor = 0,  // 1..253: obstacle id (World obstacle index + 1, clamped to 253)
   kLabelCeiling = 254,
-  kLabelVoid = 255,      // beyond the floor, or nothing
+  kLabelVoid = 255,  // beyond the floor, or nothing
 };
 
 struct ImageGroundTruth {

@@ -96,8 +96,8 @@ void LaserRaycaster::Measure(const Pose2D& pose, double angle_min, double increm
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (size_t i = 0; i < n; ++i) {
     const Beam b = BeamAt(params_, pose, angle_min + static_cast<double>(i) * increment);
-    const RayHit hit = world_.Trace(pose.x_m, pose.y_m, params_.height_m, b.azimuth_rad,
-                                    b.tan_el, params_.range_max_m / b.scale, true);
+    const RayHit hit = world_.Trace(pose.x_m, pose.y_m, params_.height_m, b.azimuth_rad, b.tan_el,
+                                    params_.range_max_m / b.scale, true);
     if (hit.kind == RayHit::kNothing) {
       (*ranges)[i] = kInf;
       if (truth) (*truth)[i] = kInf;
@@ -131,9 +131,9 @@ void LaserRaycaster::Measure(const Pose2D& pose, double angle_min, double increm
       default:
         break;
     }
-    (*ranges)[i] = measured > params_.range_max_m ? kInf
-                                                      : static_cast<float>(std::max(
-                                                            measured, params_.range_min_m));
+    (*ranges)[i] = measured > params_.range_max_m
+                       ? kInf
+                       : static_cast<float>(std::max(measured, params_.range_min_m));
   }
 }
 

@@ -23,9 +23,9 @@ namespace mostar::sim {
 struct LaserParams {
   double height_m = 0.35;
   double pitch_rad = 0.0;
-  double fov_rad = M_PI;                 // 180 or 100 deg
-  double increment_rad = M_PI / 360.0;   // 1, 0.5 or 0.25 deg
-  double range_max_m = 8.183;            // 8.183 (mm mode) or 81.83 (cm mode)
+  double fov_rad = M_PI;                // 180 or 100 deg
+  double increment_rad = M_PI / 360.0;  // 1, 0.5 or 0.25 deg
+  double range_max_m = 8.183;           // 8.183 (mm mode) or 81.83 (cm mode)
   double range_min_m = 0.02;
   double noise_sigma_m = 0.005;
   double scan_period_s = 0.0266667;
@@ -53,8 +53,8 @@ class LaserRaycaster {
 
   // Noisy (and, optionally, true) ranges of `count` beams at angle_min + i * increment (laser
   // frame), for callers that choose their own beam layout (the LMS200 emulator).
-  void Measure(const Pose2D& world_from_base, double angle_min_rad, double increment_rad,
-               int count, std::vector<float>* ranges_m, std::vector<float>* true_ranges_m);
+  void Measure(const Pose2D& world_from_base, double angle_min_rad, double increment_rad, int count,
+               std::vector<float>* ranges_m, std::vector<float>* true_ranges_m);
 
   const LaserParams& params() const { return params_; }
 

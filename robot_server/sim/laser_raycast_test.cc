@@ -1,8 +1,8 @@
 #include "robot_server/sim/laser_raycast.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "robot_server/sim/sim_test_helpers.h"
 
@@ -80,7 +80,7 @@ TEST(LaserRaycastTest, ObjectBelowTheScanPlaneIsNotSeen) {
   const LaserParams p = Exact();  // plane at 0.35 m
   LaserRaycaster laser(world, p, 1);
   const LaserScan scan = laser.Scan(Pose2D{}, Time(), nullptr);
-  EXPECT_NEAR(scan.ranges_m[BeamAt(p, 0)], 3.0, 1e-4);           // through the 0.2 m box
+  EXPECT_NEAR(scan.ranges_m[BeamAt(p, 0)], 3.0, 1e-4);  // through the 0.2 m box
   EXPECT_NEAR(scan.ranges_m[BeamAt(p, std::atan2(2, 1.3))], std::hypot(1.3, 2.0), 0.02);
 }
 
@@ -116,8 +116,9 @@ TEST(LaserRaycastTest, TransparentSurfaceIsSeenThrough) {
 }
 
 TEST(LaserRaycastTest, SpuriousSurfaceGivesShorterWrongRanges) {
-  const World world(OpenFloor("wall { x0_m: 3 y0_m: -20 x1_m: 3 y1_m: 20 "
-                              "material { laser: SPURIOUS spurious_probability: 0.5 } }"));
+  const World world(
+      OpenFloor("wall { x0_m: 3 y0_m: -20 x1_m: 3 y1_m: 20 "
+                "material { laser: SPURIOUS spurious_probability: 0.5 } }"));
   const LaserParams p = Exact();
   LaserRaycaster laser(world, p, 7);
   int wrong = 0, right = 0;
@@ -138,9 +139,10 @@ TEST(LaserRaycastTest, SpuriousSurfaceGivesShorterWrongRanges) {
 }
 
 TEST(LaserRaycastTest, DarkCheckerCellsAbsorbTheBeam) {
-  const World world(OpenFloor("wall { x0_m: 2 y0_m: -2 x1_m: 2 y1_m: 2 material { "
-                              "texture: CHECKERBOARD square_m: 0.2 colour2 { r: 0 g: 0 b: 0 } "
-                              "laser: ABSORB_DARK } }"));
+  const World world(
+      OpenFloor("wall { x0_m: 2 y0_m: -2 x1_m: 2 y1_m: 2 material { "
+                "texture: CHECKERBOARD square_m: 0.2 colour2 { r: 0 g: 0 b: 0 } "
+                "laser: ABSORB_DARK } }"));
   const LaserParams p = Exact();
   LaserRaycaster laser(world, p, 1);
   const LaserScan scan = laser.Scan(Pose2D{}, Time(), nullptr);
@@ -153,8 +155,9 @@ TEST(LaserRaycastTest, DarkCheckerCellsAbsorbTheBeam) {
 }
 
 TEST(LaserRaycastTest, PitchedPlaneMeetsTheFloorAndBlackSquaresAbsorb) {
-  const World world(OpenFloor("floor { pattern: CHECKERBOARD square_m: 0.5 "
-                              "colour2 { r: 0 g: 0 b: 0 } black_squares_absorb: true }"));
+  const World world(
+      OpenFloor("floor { pattern: CHECKERBOARD square_m: 0.5 "
+                "colour2 { r: 0 g: 0 b: 0 } black_squares_absorb: true }"));
   LaserParams p = Exact();
   p.pitch_rad = 0.1;
   LaserRaycaster laser(world, p, 1);
@@ -192,8 +195,8 @@ TEST(LaserRaycastTest, NoiseIsSeededAndMillimetric) {
 }
 
 TEST(LaserRaycastTest, TrueRangesMatchTheNoiselessScan) {
-  const World world(OpenFloor(std::string(kWallAt3m) +
-                              "cylinder { x_m: 1 y_m: 1 radius_m: 0.1 height_m: 1 }"));
+  const World world(
+      OpenFloor(std::string(kWallAt3m) + "cylinder { x_m: 1 y_m: 1 radius_m: 0.1 height_m: 1 }"));
   const LaserParams p = Exact();
   LaserRaycaster laser(world, p, 1);
   EXPECT_EQ(laser.Scan(Pose2D{0.2, 0.1, 0.3}, Time(), nullptr).ranges_m,

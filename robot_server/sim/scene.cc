@@ -26,8 +26,7 @@ bool CheckMaterial(const proto::Material& m, const std::string& name, const std:
     return Fail(name, key + ".colour2", "a textured material needs a second colour", error);
   }
   if (m.laser() == proto::ABSORB_DARK && m.texture() == proto::Material::SOLID) {
-    return Fail(name, key + ".laser", "ABSORB_DARK needs a CHECKERBOARD or STRIPES texture",
-                error);
+    return Fail(name, key + ".laser", "ABSORB_DARK needs a CHECKERBOARD or STRIPES texture", error);
   }
   return true;
 }

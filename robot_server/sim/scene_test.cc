@@ -46,8 +46,7 @@ TEST(SceneTest, MissingFileNamesTheFile) {
 TEST(SceneTest, UnknownKeyIsRejectedWithFileAndKey) {
   proto::Scene scene;
   std::string error;
-  EXPECT_FALSE(ParseScene("floor { min_x_m: -1 }\nwal { x0_m: 1 }\n", "bad.pbtxt", &scene,
-                          &error));
+  EXPECT_FALSE(ParseScene("floor { min_x_m: -1 }\nwal { x0_m: 1 }\n", "bad.pbtxt", &scene, &error));
   EXPECT_THAT(error, HasSubstr("bad.pbtxt:2"));
   EXPECT_THAT(error, HasSubstr("wal"));
 }
@@ -64,17 +63,17 @@ TEST(SceneTest, NegativeSizeIsOutOfRange) {
 TEST(SceneTest, BoxWithoutHeightNamesTheKey) {
   proto::Scene scene;
   std::string error;
-  EXPECT_FALSE(ParseScene("box { x_m: 1 y_m: 0 size_x_m: 1 size_y_m: 1 }\n"
-                          "box { x_m: 3 y_m: 0 size_x_m: 1 size_y_m: 1 }",
-                          "s.pbtxt", &scene, &error));
+  EXPECT_FALSE(
+      ParseScene("box { x_m: 1 y_m: 0 size_x_m: 1 size_y_m: 1 }\n"
+                 "box { x_m: 3 y_m: 0 size_x_m: 1 size_y_m: 1 }",
+                 "s.pbtxt", &scene, &error));
   EXPECT_EQ(error, "s.pbtxt: box[0].height_m: must be set");
 }
 
 TEST(SceneTest, ZeroLengthWallIsRejected) {
   proto::Scene scene;
   std::string error;
-  EXPECT_FALSE(ParseScene("wall { x0_m: 1 y0_m: 1 x1_m: 1 y1_m: 1 }", "w.pbtxt", &scene,
-                          &error));
+  EXPECT_FALSE(ParseScene("wall { x0_m: 1 y0_m: 1 x1_m: 1 y1_m: 1 }", "w.pbtxt", &scene, &error));
   EXPECT_THAT(error, HasSubstr("wall[0]"));
   EXPECT_THAT(error, HasSubstr("zero length"));
 }
@@ -96,18 +95,20 @@ TEST(SceneTest, StartOutsideTheFloorIsRejected) {
 TEST(SceneTest, TexturedMaterialNeedsSecondColour) {
   proto::Scene scene;
   std::string error;
-  EXPECT_FALSE(ParseScene("box { x_m: 2 y_m: 0 size_x_m: 1 size_y_m: 1 height_m: 1 "
-                          "material { texture: CHECKERBOARD } }",
-                          "t.pbtxt", &scene, &error));
+  EXPECT_FALSE(
+      ParseScene("box { x_m: 2 y_m: 0 size_x_m: 1 size_y_m: 1 height_m: 1 "
+                 "material { texture: CHECKERBOARD } }",
+                 "t.pbtxt", &scene, &error));
   EXPECT_THAT(error, HasSubstr("box[0].material.colour2"));
 }
 
 TEST(SceneTest, StartInsideAnObstacleIsRefusedBySimWorld) {
   proto::Scene scene;
   std::string error;
-  ASSERT_TRUE(ParseScene("name: \"blocked\"\n"
-                         "cylinder { x_m: 0 y_m: 0 radius_m: 0.2 height_m: 1 }",
-                         "b.pbtxt", &scene, &error))
+  ASSERT_TRUE(
+      ParseScene("name: \"blocked\"\n"
+                 "cylinder { x_m: 0 y_m: 0 radius_m: 0.2 height_m: 1 }",
+                 "b.pbtxt", &scene, &error))
       << error;
   EXPECT_EQ(SimWorld::Create(scene, proto::SimConfig(), Time(), &error), nullptr);
   EXPECT_THAT(error, HasSubstr("overlaps"));

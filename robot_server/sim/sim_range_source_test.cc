@@ -1,8 +1,8 @@
 #include "robot_server/sim/sim_range_source.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "robot_server/sim/sim_test_helpers.h"
 
@@ -11,9 +11,8 @@ namespace {
 
 TEST(SimWorldRangeSourceTest, SamplesTheWorldAtTheMappedTime) {
   std::string error;
-  auto sim = SimWorld::Create(
-      testing::OpenFloor("wall { x0_m: 3 y0_m: -20 x1_m: 3 y1_m: 20 }"),
-      testing::NoiselessConfig(), Time(), &error);
+  auto sim = SimWorld::Create(testing::OpenFloor("wall { x0_m: 3 y0_m: -20 x1_m: 3 y1_m: 20 }"),
+                              testing::NoiselessConfig(), Time(), &error);
   ASSERT_NE(sim, nullptr) << error;
   sim->SetVelocity(0.5, 0.0);
   const SteadyTime origin{};

@@ -5,13 +5,12 @@
 // writes <out>_left.png, <out>_right.png, <out>_map.png (bird's-eye view: obstacles, robot
 // footprint, camera field of view, laser points) and <out>_truth.png (left image with the
 // true obstacle base line in green and the laser points projected with the true calibration).
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <iostream>
-#include <string>
-
-#include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "robot_server/sim/scene.h"
 #include "robot_server/sim/sim_world.h"
@@ -48,14 +47,15 @@ cv::Mat DrawMap(const SimWorld& sim, const LaserScan& scan, const Pose2D& pose) 
       cv::fillConvexPoly(map, pts, colour);
       cv::polylines(map, pts, true, cv::Scalar(0, 0, 0), 1);
     } else {
-      cv::circle(map, to_px(o.x0_m, o.y0_m),
-                 std::max(2, static_cast<int>(o.radius_m * px_per_m)), colour, cv::FILLED);
+      cv::circle(map, to_px(o.x0_m, o.y0_m), std::max(2, static_cast<int>(o.radius_m * px_per_m)),
+                 colour, cv::FILLED);
     }
   }
   // Robot footprint and heading.
   const auto& d = sim.drive_params();
   const double c = std::cos(pose.theta_rad), s = std::sin(pose.theta_rad);
-  cv::circle(map, to_px(pose.x_m + c * d.footprint_center_x_m, pose.y_m + s * d.footprint_center_x_m),
+  cv::circle(map,
+             to_px(pose.x_m + c * d.footprint_center_x_m, pose.y_m + s * d.footprint_center_x_m),
              static_cast<int>(d.footprint_radius_m * px_per_m), cv::Scalar(200, 120, 40), 2);
   cv::arrowedLine(map, to_px(pose.x_m, pose.y_m), to_px(pose.x_m + 0.5 * c, pose.y_m + 0.5 * s),
                   cv::Scalar(200, 120, 40), 2);
@@ -98,10 +98,10 @@ cv::Mat DrawTruth(const SimWorld& sim, const StereoImages& images, const LaserSc
     if (!std::isfinite(r)) continue;
     double u, v;
     const double a = scan.AngleOf(i);
-    if (ProjectLaserPoint(sim.calibration(), Eye::kLeft, r * std::cos(a), r * std::sin(a),
-                          laser_z, &u, &v)) {
-      cv::circle(out, cv::Point(static_cast<int>(u), static_cast<int>(v)), 2,
-                 cv::Scalar(0, 0, 255), cv::FILLED);
+    if (ProjectLaserPoint(sim.calibration(), Eye::kLeft, r * std::cos(a), r * std::sin(a), laser_z,
+                          &u, &v)) {
+      cv::circle(out, cv::Point(static_cast<int>(u), static_cast<int>(v)), 2, cv::Scalar(0, 0, 255),
+                 cv::FILLED);
     }
   }
   return out;

@@ -1,11 +1,11 @@
 // Scenes and configs built in code for the simulator's tests.
 #pragma once
 
-#include <cstdlib>
-#include <string>
-
 #include <google/protobuf/text_format.h>
 #include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
 
 #include "robot_server/sim/scene.pb.h"
 #include "robot_server/sim/sim_config.pb.h"

@@ -50,12 +50,11 @@ std::unique_ptr<SimWorld> SimWorld::Create(const proto::Scene& scene,
 
 SimWorld::SimWorld(std::unique_ptr<World> world, const proto::SimConfig& config, Time start)
     : world_(std::move(world)),
-      drive_(DriveParams::FromProto(config.drive()),
-             Pose2D{world_->scene().start().x_m(), world_->scene().start().y_m(),
-                    world_->scene().start().theta_rad()},
-             [w = world_.get()](double x, double y, double r) {
-               return w->CircleCollides(x, y, r);
-             }),
+      drive_(
+          DriveParams::FromProto(config.drive()),
+          Pose2D{world_->scene().start().x_m(), world_->scene().start().y_m(),
+                 world_->scene().start().theta_rad()},
+          [w = world_.get()](double x, double y, double r) { return w->CircleCollides(x, y, r); }),
       laser_(*world_, LaserParams::FromProto(config.laser()), config.laser().seed()),
       renderer_(*world_, CameraParams::FromProto(config.camera()), config.laser().height_m()),
       time_(start) {}
@@ -90,8 +89,7 @@ void SimWorld::SampleRanges(Time t, double angle_min_rad, double increment_rad, 
                             std::vector<float>* ranges_m) {
   std::lock_guard<std::mutex> lock(mutex_);
   AdvanceLocked(t);
-  laser_.Measure(drive_.world_from_base(), angle_min_rad, increment_rad, count, ranges_m,
-                 nullptr);
+  laser_.Measure(drive_.world_from_base(), angle_min_rad, increment_rad, count, ranges_m, nullptr);
 }
 
 StereoImages SimWorld::StereoAt(Time t, bool with_truth, Pose2D* world_from_base) {

@@ -32,8 +32,7 @@ namespace mostar::sim {
 // Reads and checks a SimConfig file: ranges (config_loader) and the combinations the LMS200
 // does not offer (0.25 deg needs the 100 deg field of view). Error: "<file>: <key>: <reason>".
 bool LoadSimConfig(const std::string& path, proto::SimConfig* config, std::string* error);
-bool ValidateSimConfig(const proto::SimConfig& config, const std::string& name,
-                       std::string* error);
+bool ValidateSimConfig(const proto::SimConfig& config, const std::string& name, std::string* error);
 
 // Everything known about the robot at one instant.
 struct RobotState {
@@ -50,9 +49,8 @@ class SimWorld {
  public:
   // Builds the world; fails (with a message) on an invalid config or a start pose whose
   // footprint overlaps an obstacle. `scene` must have passed ValidateScene.
-  static std::unique_ptr<SimWorld> Create(const proto::Scene& scene,
-                                          const proto::SimConfig& config, Time start,
-                                          std::string* error);
+  static std::unique_ptr<SimWorld> Create(const proto::Scene& scene, const proto::SimConfig& config,
+                                          Time start, std::string* error);
 
   SimWorld(const SimWorld&) = delete;
   SimWorld& operator=(const SimWorld&) = delete;
@@ -88,11 +86,11 @@ class SimWorld {
 
   std::unique_ptr<World> world_;
   mutable std::mutex mutex_;
-  DiffDrive drive_;          // guarded by mutex_
-  LaserRaycaster laser_;     // guarded by mutex_
-  StereoRenderer renderer_;  // const, thread-safe
-  Time time_;                // guarded by mutex_
-  uint64_t frame_index_ = 0; // guarded by mutex_
+  DiffDrive drive_;           // guarded by mutex_
+  LaserRaycaster laser_;      // guarded by mutex_
+  StereoRenderer renderer_;   // const, thread-safe
+  Time time_;                 // guarded by mutex_
+  uint64_t frame_index_ = 0;  // guarded by mutex_
 };
 
 }  // namespace mostar::sim

@@ -1,10 +1,10 @@
 #include "robot_server/sim/sim_world.h"
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cmath>
 #include <thread>
-
-#include <gtest/gtest.h>
 
 #include "robot_server/sim/sim_test_helpers.h"
 

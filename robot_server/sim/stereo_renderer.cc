@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <thread>
-
-#include <opencv2/imgproc.hpp>
 
 namespace mostar::sim {
 namespace {
@@ -19,9 +18,7 @@ struct BinHit {
   const Obstacle* obstacle;
 };
 
-uint8_t ClampByte(float v) {
-  return static_cast<uint8_t>(std::clamp(v, 0.f, 255.f) + 0.5f);
-}
+uint8_t ClampByte(float v) { return static_cast<uint8_t>(std::clamp(v, 0.f, 255.f) + 0.5f); }
 
 }  // namespace
 
@@ -118,8 +115,8 @@ void StereoRenderer::BuildTables(Eye eye, EyeTables* t) const {
   t->bin_count = static_cast<int>((az_max - az_min) / t->bin_width_rad) + 1;
   t->bin.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    t->bin[i] = std::min(t->bin_count - 1,
-                         static_cast<int>((azimuth[i] - az_min) / t->bin_width_rad));
+    t->bin[i] =
+        std::min(t->bin_count - 1, static_cast<int>((azimuth[i] - az_min) / t->bin_width_rad));
   }
 }
 
@@ -258,7 +255,8 @@ cv::Mat StereoRenderer::RenderEye(Eye eye, const Pose2D& pose, uint64_t frame_in
 void StereoRenderer::Render(const Pose2D& pose, uint64_t frame_index, bool with_truth,
                             StereoImages* out) const {
   std::thread right([&] {
-    out->right = RenderEye(Eye::kRight, pose, frame_index, with_truth ? &out->right_truth : nullptr);
+    out->right =
+        RenderEye(Eye::kRight, pose, frame_index, with_truth ? &out->right_truth : nullptr);
   });
   out->left = RenderEye(Eye::kLeft, pose, frame_index, with_truth ? &out->left_truth : nullptr);
   right.join();

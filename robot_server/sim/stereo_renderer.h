@@ -13,9 +13,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "common/types/odometry.h"
 #include "common/types/stereo_frame.h"
@@ -39,9 +38,9 @@ struct CameraParams {
 };
 
 struct StereoImages {
-  cv::Mat left;   // BGR8
-  cv::Mat right;  // BGR8
-  ImageGroundTruth left_truth;   // filled when asked for
+  cv::Mat left;                 // BGR8
+  cv::Mat right;                // BGR8
+  ImageGroundTruth left_truth;  // filled when asked for
   ImageGroundTruth right_truth;
 };
 
@@ -66,12 +65,12 @@ class StereoRenderer {
     double cam_x_m = 0, cam_y_m = 0, cam_z_m = 0;  // camera centre, base frame
     double az_min_rad = 0, bin_width_rad = 0;
     int bin_count = 0;
-    std::vector<int32_t> bin;        // per pixel
-    std::vector<float> tan_el;       // per pixel
-    std::vector<float> h_floor_m;    // per pixel; +inf when the ray does not go down
-    std::vector<float> floor_x_m;    // per pixel floor point, base frame
+    std::vector<int32_t> bin;      // per pixel
+    std::vector<float> tan_el;     // per pixel
+    std::vector<float> h_floor_m;  // per pixel; +inf when the ray does not go down
+    std::vector<float> floor_x_m;  // per pixel floor point, base frame
     std::vector<float> floor_y_m;
-    std::vector<float> vignette;     // per pixel gain
+    std::vector<float> vignette;  // per pixel gain
   };
   void BuildTables(Eye eye, EyeTables* tables) const;
 

@@ -1,7 +1,7 @@
 // Stereo rendering speed on the shipped corridor scene (target: 30 stereo pairs per second).
-#include <string>
-
 #include <benchmark/benchmark.h>
+
+#include <string>
 
 #include "robot_server/sim/scene.h"
 #include "robot_server/sim/sim_world.h"
@@ -26,8 +26,8 @@ struct Fixture {
       throw std::runtime_error(error + " (set MOSTAR_SOURCE_DIR to the repository root)");
     }
     world = std::make_unique<World>(scene);
-    renderer = std::make_unique<StereoRenderer>(
-        *world, CameraParams::FromProto(config.camera()), config.laser().height_m());
+    renderer = std::make_unique<StereoRenderer>(*world, CameraParams::FromProto(config.camera()),
+                                                config.laser().height_m());
   }
 };
 
@@ -46,8 +46,8 @@ void BM_RenderStereo(benchmark::State& state) {
     f.renderer->Render(pose, frame++, /*with_truth=*/false, &out);
     benchmark::DoNotOptimize(out.left.data);
   }
-  state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()),
-                                                     benchmark::Counter::kIsRate);
+  state.counters["pairs_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_RenderStereo)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -1,8 +1,8 @@
 #include "robot_server/sim/stereo_renderer.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "robot_server/sim/laser_raycast.h"
@@ -18,8 +18,8 @@ class RendererFixture : public ::testing::Test {
  protected:
   void Build(const std::string& scene_text, const proto::SimConfig& config = NoiselessConfig()) {
     world_ = std::make_unique<World>(OpenFloor(scene_text));
-    renderer_ = std::make_unique<StereoRenderer>(
-        *world_, CameraParams::FromProto(config.camera()), config.laser().height_m());
+    renderer_ = std::make_unique<StereoRenderer>(*world_, CameraParams::FromProto(config.camera()),
+                                                 config.laser().height_m());
   }
   std::unique_ptr<World> world_;
   std::unique_ptr<StereoRenderer> renderer_;
@@ -88,8 +88,9 @@ TEST_F(RendererFixture, WallEndLandsOnTheColumnOfThePinholeFormula) {
 }
 
 TEST_F(RendererFixture, LowObjectIsVisibleToTheCamerasButNotToTheLaser) {
-  Build("wall { x0_m: 5 y0_m: -20 x1_m: 5 y1_m: 20 }\n"
-        "box { x_m: 2 y_m: 0 size_x_m: 0.4 size_y_m: 0.6 height_m: 0.15 }");
+  Build(
+      "wall { x0_m: 5 y0_m: -20 x1_m: 5 y1_m: 20 }\n"
+      "box { x_m: 2 y_m: 0 size_x_m: 0.4 size_y_m: 0.6 height_m: 0.15 }");
   ImageGroundTruth truth;
   renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, &truth);
   const int box_id = 2;
@@ -146,8 +147,9 @@ TEST_F(RendererFixture, FramesAreReproducibleAndNoisy) {
 }
 
 TEST_F(RendererFixture, CheckerboardFloorShowsBothColours) {
-  Build("floor { pattern: CHECKERBOARD square_m: 0.5 colour { r: 230 g: 230 b: 230 } "
-        "colour2 { r: 20 g: 20 b: 20 } }");
+  Build(
+      "floor { pattern: CHECKERBOARD square_m: 0.5 colour { r: 230 g: 230 b: 230 } "
+      "colour2 { r: 20 g: 20 b: 20 } }");
   const cv::Mat image = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, nullptr);
   cv::Mat grey;
   cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
 #include <opencv2/imgproc.hpp>
 
 namespace mostar::sim {
@@ -43,8 +42,8 @@ double TileHash(int64_t i, int64_t j) {
   return static_cast<double>(h & 0xFFFF) / 65535.0;
 }
 
-void AddCylinder(std::vector<Obstacle>* out, const std::string& name, double x, double y,
-                 double r, double z0, double z1, const Surface& surface) {
+void AddCylinder(std::vector<Obstacle>* out, const std::string& name, double x, double y, double r,
+                 double z0, double z1, const Surface& surface) {
   Obstacle o;
   o.name = name;
   o.kind = ShapeKind::kCylinder;
@@ -174,8 +173,8 @@ World::World(const proto::Scene& scene) : scene_(scene) {
     o.z_max_m = w.height_m();
     o.surface = ToSurface(w.material());
     o.baseboard_height_m = w.baseboard_height_m();
-    o.baseboard = w.has_baseboard_colour() ? ToRgb(w.baseboard_colour())
-                                           : Scale(o.surface.colour, 0.55);
+    o.baseboard =
+        w.has_baseboard_colour() ? ToRgb(w.baseboard_colour()) : Scale(o.surface.colour, 0.55);
     obstacles_.push_back(o);
   }
   for (const auto& b : scene.box()) {
@@ -207,10 +206,10 @@ World::World(const proto::Scene& scene) : scene_(scene) {
     shirt.colour = p.has_shirt() ? ToRgb(p.shirt()) : Rgb{170, 60, 50};
     Surface skin;
     skin.colour = {200, 160, 135};
-    AddCylinder(&obstacles_, name + ".left_leg", p.x_m() + 0.1 * lx, p.y_m() + 0.1 * ly, 0.065,
-                0, 0.86, legs);
-    AddCylinder(&obstacles_, name + ".right_leg", p.x_m() - 0.1 * lx, p.y_m() - 0.1 * ly,
-                0.065, 0, 0.86, legs);
+    AddCylinder(&obstacles_, name + ".left_leg", p.x_m() + 0.1 * lx, p.y_m() + 0.1 * ly, 0.065, 0,
+                0.86, legs);
+    AddCylinder(&obstacles_, name + ".right_leg", p.x_m() - 0.1 * lx, p.y_m() - 0.1 * ly, 0.065, 0,
+                0.86, legs);
     AddCylinder(&obstacles_, name + ".torso", p.x_m(), p.y_m(), 0.19, 0.86, 1.47, shirt);
     AddCylinder(&obstacles_, name + ".head", p.x_m(), p.y_m(), 0.1, 1.5, 1.74, skin);
   }
@@ -223,8 +222,7 @@ World::World(const proto::Scene& scene) : scene_(scene) {
   lighting_.ly = std::cos(l.elevation_rad()) * std::sin(l.azimuth_rad());
   lighting_.lz = std::sin(l.elevation_rad());
   ceiling_height_m_ = scene.ceiling_height_m();
-  ceiling_colour_ =
-      scene.has_ceiling_colour() ? ToRgb(scene.ceiling_colour()) : Rgb{215, 215, 210};
+  ceiling_colour_ = scene.has_ceiling_colour() ? ToRgb(scene.ceiling_colour()) : Rgb{215, 215, 210};
 
   const auto& fl = scene.floor();
   floor_.min_x_m = fl.min_x_m();
@@ -270,13 +268,10 @@ World::World(const proto::Scene& scene) : scene_(scene) {
   }
   cv::Mat dist;
   cv::distanceTransform(free_mask, dist, cv::DIST_L2, 3);
-  occlusion_.create(rows, cols, CV_32F);
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) {
-      const double d_m = dist.at<float>(r, c) * occlusion_res_m_;
-      occlusion_.at<float>(r, c) = static_cast<float>(1.0 - 0.45 * std::exp(-d_m / 0.045));
-    }
-  }
+  // occlusion = 1 - 0.45 exp(-d / 4.5 cm)
+  cv::Mat decay;
+  cv::exp(dist * (-occlusion_res_m_ / 0.045), decay);
+  occlusion_ = 1.0 - 0.45 * decay;
 }
 
 RayHit World::Trace(double ox, double oy, double oz, double azimuth_rad, double tan_el,
@@ -376,8 +371,7 @@ Rgb World::FloorAlbedo(double x, double y, bool* inside, bool* dark_square) cons
       const double fx = ux - ix, fy = uy - iy;
       const double joint = 0.006 / f.square_m;
       if (fx < joint || fx > 1 - joint || fy < joint || fy > 1 - joint) return f.joint;
-      const double k =
-          0.96 + 0.08 * TileHash(static_cast<int64_t>(ix), static_cast<int64_t>(iy));
+      const double k = 0.96 + 0.08 * TileHash(static_cast<int64_t>(ix), static_cast<int64_t>(iy));
       return Scale(f.colour, k);
     }
     case proto::Floor::CHECKERBOARD:
@@ -426,7 +420,8 @@ Rgb World::Shade(const RayHit& hit) const {
     case RayHit::kFloor: {
       bool inside, dark;
       const Rgb albedo = FloorAlbedo(hit.x_m, hit.y_m, &inside, &dark);
-      const double k = (amb + (1 - amb) * 0.5 * (1.0 + lighting_.lz)) * FloorOcclusion(hit.x_m, hit.y_m);
+      const double k =
+          (amb + (1 - amb) * 0.5 * (1.0 + lighting_.lz)) * FloorOcclusion(hit.x_m, hit.y_m);
       return Scale(albedo, k * bright);
     }
     case RayHit::kObstacle: {

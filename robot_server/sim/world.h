@@ -11,10 +11,9 @@
 // A World is immutable after construction and safe to read from many threads.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "robot_server/sim/scene.pb.h"
 
@@ -60,8 +59,8 @@ enum class Face { kSide, kTop, kBottom };
 
 // Where a 2D ray crosses an obstacle's footprint. For walls h_in == h_out.
 struct FootprintHit {
-  double h_in_m = 0;   // horizontal distance where the ray enters the footprint (>= 0)
-  double h_out_m = 0;  // where it leaves
+  double h_in_m = 0;      // horizontal distance where the ray enters the footprint (>= 0)
+  double h_out_m = 0;     // where it leaves
   double nx = 0, ny = 0;  // outward unit normal of the side crossed at h_in (world frame)
   double u_m = 0;         // texture coordinate along that side at h_in
 };
@@ -73,8 +72,8 @@ bool IntersectFootprint(const Obstacle& obstacle, double ox_m, double oy_m, doub
 
 // Given a footprint crossing and a ray of height oz + h * tan_el, the face hit and its distance.
 // False when the ray passes above or below the obstacle.
-bool ResolveVertical(const Obstacle& obstacle, const FootprintHit& fp, double oz_m,
-                     double tan_el, double* h_m, Face* face);
+bool ResolveVertical(const Obstacle& obstacle, const FootprintHit& fp, double oz_m, double tan_el,
+                     double* h_m, Face* face);
 
 // What a traced ray hit.
 struct RayHit {
@@ -82,7 +81,7 @@ struct RayHit {
   Kind kind = kNothing;
   const Obstacle* obstacle = nullptr;  // for kObstacle
   Face face = Face::kSide;
-  double h_m = 0;             // horizontal distance from the origin
+  double h_m = 0;                    // horizontal distance from the origin
   double x_m = 0, y_m = 0, z_m = 0;  // hit point, world frame
   double nx = 0, ny = 0, nz = 0;     // surface normal, world frame
   double u_m = 0;                    // texture coordinate along a side face

@@ -1,0 +1,60 @@
+#include "operator_client/net/robot_state.h"
+
+namespace mostar::client {
+
+void RobotState::AddScan(const LaserScan& scan) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  scans_.push_back(scan);
+  while (scans_.size() > 32) scans_.pop_front();
+  snapshot_.scans++;
+  snapshot_.last_scan_received = clock_->SteadyNow();
+  scan_rate_.Tick(snapshot_.last_scan_received);
+}
+
+void RobotState::SetHealth(const RobotHealth& health) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  snapshot_.health = health;
+  snapshot_.last_health_received = clock_->SteadyNow();
+}
+
+void RobotState::SetLease(const ControlLease& lease) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  snapshot_.lease = lease;
+}
+
+void RobotState::SetOdometry(const Odometry& odometry) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  snapshot_.odometry = odometry;
+}
+
+void RobotState::AddClockSample(const ClockProbe& probe) {
+  const Time t3 = clock_->Now();
+  std::lock_guard<std::mutex> lock(mutex_);
+  offset_.AddSample({probe.t0, probe.t1, probe.t2, t3});
+  snapshot_.clock = offset_.Estimate();
+}
+
+std::optional<LaserScan> RobotState::NearestScan(Time stamp) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const LaserScan* best = nullptr;
+  Duration best_gap = Duration::max();
+  for (const LaserScan& s : scans_) {
+    const Duration gap = s.stamp > stamp ? s.stamp - stamp : stamp - s.stamp;
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = &s;
+    }
+  }
+  if (best == nullptr) return std::nullopt;
+  return *best;
+}
+
+RobotSnapshot RobotState::Snapshot() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RobotSnapshot s = snapshot_;
+  if (!scans_.empty()) s.latest_scan = scans_.back();
+  s.scan_rate_hz = scan_rate_.RateHz(clock_->SteadyNow());
+  return s;
+}
+
+}  // namespace mostar::client

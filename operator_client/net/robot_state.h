@@ -1,0 +1,55 @@
+// What the operator knows about the robot besides video: recent scans (to match each image with
+// the scan nearest in time), the latest health, lease and odometry, and the clock offset to the
+// robot. Written from DDS threads, read by the render loop. Thread-safe.
+#pragma once
+
+#include <deque>
+#include <mutex>
+#include <optional>
+
+#include "common/time/rate_meter.h"
+#include "common/timesync/clock_offset_estimator.h"
+#include "common/types/commands.h"
+#include "common/types/health.h"
+#include "common/types/laser_scan.h"
+#include "common/types/odometry.h"
+
+namespace mostar::client {
+
+struct RobotSnapshot {
+  std::optional<RobotHealth> health;
+  std::optional<ControlLease> lease;
+  std::optional<Odometry> odometry;
+  std::optional<LaserScan> latest_scan;
+  timesync::ClockOffsetEstimate clock;  // robot clock minus this machine's clock
+  double scan_rate_hz = 0;
+  uint64_t scans = 0;
+  SteadyTime last_scan_received;
+  SteadyTime last_health_received;
+};
+
+class RobotState {
+ public:
+  explicit RobotState(const Clock* clock) : clock_(clock) {}
+
+  void AddScan(const LaserScan& scan);
+  void SetHealth(const RobotHealth& health);
+  void SetLease(const ControlLease& lease);
+  void SetOdometry(const Odometry& odometry);
+  // A pong for one of our pings; t3 is taken now.
+  void AddClockSample(const ClockProbe& probe);
+
+  // The scan whose stamp is nearest to `stamp` (robot clock), among the last 32.
+  std::optional<LaserScan> NearestScan(Time stamp) const;
+  RobotSnapshot Snapshot() const;
+
+ private:
+  const Clock* clock_;
+  mutable std::mutex mutex_;
+  std::deque<LaserScan> scans_;
+  mutable RateMeter scan_rate_;
+  timesync::ClockOffsetEstimator offset_;
+  RobotSnapshot snapshot_;
+};
+
+}  // namespace mostar::client

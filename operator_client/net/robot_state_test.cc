@@ -1,0 +1,66 @@
+#include "operator_client/net/robot_state.h"
+
+#include <gtest/gtest.h>
+
+#include "common/time/fake_clock.h"
+
+namespace mostar::client {
+namespace {
+
+LaserScan ScanAt(Time t, float range) {
+  LaserScan s;
+  s.stamp = t;
+  s.ranges_m = {range};
+  return s;
+}
+
+TEST(RobotStateTest, NearestScanByStamp) {
+  FakeClock clock;
+  RobotState state(&clock);
+  const Time t0 = clock.Now();
+  state.AddScan(ScanAt(t0, 1));
+  state.AddScan(ScanAt(t0 + std::chrono::milliseconds(100), 2));
+  state.AddScan(ScanAt(t0 + std::chrono::milliseconds(200), 3));
+  EXPECT_EQ(state.NearestScan(t0 + std::chrono::milliseconds(140))->ranges_m[0], 2);
+  EXPECT_EQ(state.NearestScan(t0 + std::chrono::milliseconds(160))->ranges_m[0], 3);
+  EXPECT_EQ(state.NearestScan(t0 - std::chrono::seconds(5))->ranges_m[0], 1);
+}
+
+TEST(RobotStateTest, EmptyHistoryGivesNothing) {
+  FakeClock clock;
+  RobotState state(&clock);
+  EXPECT_FALSE(state.NearestScan(clock.Now()).has_value());
+  EXPECT_FALSE(state.Snapshot().latest_scan.has_value());
+}
+
+TEST(RobotStateTest, KeepsOnlyRecentScans) {
+  FakeClock clock;
+  RobotState state(&clock);
+  const Time t0 = clock.Now();
+  for (int i = 0; i < 100; ++i) {
+    state.AddScan(ScanAt(t0 + std::chrono::milliseconds(100 * i), static_cast<float>(i)));
+  }
+  EXPECT_EQ(state.NearestScan(t0)->ranges_m[0], 68);  // the oldest of the last 32
+  EXPECT_EQ(state.Snapshot().scans, 100u);
+}
+
+TEST(RobotStateTest, ClockOffsetFromPongs) {
+  FakeClock clock;
+  RobotState state(&clock);
+  // The robot's clock is 2 s ahead; 10 ms each way.
+  for (int i = 0; i < 5; ++i) {
+    ClockProbe p;
+    p.t0 = clock.Now();
+    clock.Advance(std::chrono::milliseconds(10));
+    p.t1 = clock.Now() + std::chrono::seconds(2);
+    p.t2 = p.t1;
+    clock.Advance(std::chrono::milliseconds(10));
+    state.AddClockSample(p);
+  }
+  const auto estimate = state.Snapshot().clock;
+  ASSERT_TRUE(estimate.known);
+  EXPECT_NEAR(ToSeconds(estimate.responder_minus_requester), 2.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace mostar::client

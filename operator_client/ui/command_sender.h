@@ -1,0 +1,69 @@
+// Sends the pilot's velocity commands at a steady rate (20 Hz), whatever the render rate, plus
+// clock pings (1 Hz) and queued control requests and emergency stops. Commands carry a strictly
+// increasing sequence number and the sender's clock stamp; when the deadman is released the
+// sender keeps sending enable = false with zero velocity (so the robot stops at once and the
+// pilot's liveliness holds). Own thread; the setters are thread-safe.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "common/time/time.h"
+#include "common/types/commands.h"
+#include "operator_client/ui/drive_input.h"
+
+namespace mostar::ui {
+
+struct CommandSenderOptions {
+  std::string client_id;
+  bool pilot = true;             // observers send no velocity commands
+  int32_t strength = 10;         // for control requests
+  Duration command_period = std::chrono::milliseconds(50);
+  Duration ping_period = std::chrono::seconds(1);
+};
+
+// Transport functions (the DDS node in the program, fakes in tests). Each returns false when
+// the sample was not sent.
+struct CommandSinks {
+  std::function<bool(const VelocityCommand&)> command;
+  std::function<bool(const ClockProbe&)> ping;
+  std::function<bool(const ControlRequest&)> control;
+  std::function<bool(const EmergencyStop&)> estop;
+  std::function<void(const VelocityCommand&)> on_sent;  // optional: traces
+};
+
+class CommandSender {
+ public:
+  CommandSender(const CommandSenderOptions& options, CommandSinks sinks, const Clock* clock);
+  ~CommandSender();  // Stop()
+  void Start();
+  void Stop();
+
+  void SetDrive(const DriveOutput& drive);
+  void RequestControl(bool take);
+  void SendEmergencyStop(bool engage);
+  uint64_t commands_sent() const { return commands_sent_.load(); }
+  // One cycle's work, exposed for tests (Start() calls it periodically).
+  void Tick();
+
+ private:
+  const CommandSenderOptions options_;
+  const CommandSinks sinks_;
+  const Clock* clock_;
+  std::mutex mutex_;
+  DriveOutput drive_;
+  std::optional<bool> pending_control_;
+  std::optional<bool> pending_estop_;
+  uint64_t sequence_ = 0;
+  uint64_t ping_sequence_ = 0;
+  SteadyTime next_ping_;
+  std::atomic<bool> stop_{false};
+  std::atomic<uint64_t> commands_sent_{0};
+  std::thread thread_;
+};
+
+}  // namespace mostar::ui

@@ -1,0 +1,481 @@
+#include "operator_client/ui/operator_console.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "common/log/log.h"
+#include "common/math/calibration_io.h"
+#include "operator_client/render/gl.h"
+#include "operator_client/render/screenshot.h"
+
+namespace mostar::ui {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+void Append(const fusion::VertexArray& from, fusion::VertexArray* to) {
+  to->positions.insert(to->positions.end(), from.positions.begin(), from.positions.end());
+  to->colors.insert(to->colors.end(), from.colors.begin(), from.colors.end());
+}
+
+// Rising edges of keys, so that a held key acts once.
+class KeyEdges {
+ public:
+  bool Pressed(GLFWwindow* window, int key) {
+    const bool down = glfwGetKey(window, key) == GLFW_PRESS;
+    const bool was = state_[key];
+    state_[key] = down;
+    return down && !was;
+  }
+
+ private:
+  std::map<int, bool> state_;
+};
+
+KeyEdges& Keys() {
+  static KeyEdges keys;
+  return keys;
+}
+
+ImU32 ToImColor(const fusion::Rgba& c, float alpha = 1.f) {
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(c.r, c.g, c.b, c.a * alpha));
+}
+
+const render::DisplayMode kModes[] = {
+    render::DisplayMode::kMonoLeft,       render::DisplayMode::kMonoRight,
+    render::DisplayMode::kAnaglyphGrey,   render::DisplayMode::kAnaglyphColor,
+    render::DisplayMode::kSideBySideFull, render::DisplayMode::kSideBySideHalf,
+    render::DisplayMode::kTopBottom,      render::DisplayMode::kRowInterlaced,
+    render::DisplayMode::kQuadBuffer,
+};
+
+}  // namespace
+
+OperatorConsole::OperatorConsole(const ConsoleOptions& options, Window* window,
+                                 client::StereoReceiver* video, client::RobotState* robot,
+                                 CommandSender* commands, const Clock* clock)
+    : options_(options),
+      window_(window),
+      video_(video),
+      robot_(robot),
+      commands_(commands),
+      clock_(clock),
+      mapper_(options.drive) {}
+
+OperatorConsole::~OperatorConsole() = default;
+
+bool OperatorConsole::Init(std::string* error) {
+  if (!eyes_[0].Init(error) || !eyes_[1].Init(error) || !compositor_.Init(error)) return false;
+  builder_ = fusion::ArFeatureBuilder::Create(options_.ar, error);
+  if (!builder_) return false;
+  if (!options_.calibration.IsValid(error)) return false;
+  imgui_ = std::make_unique<ImGuiLayer>(window_->get());
+  last_frame_start_ = clock_->SteadyNow();
+  return true;
+}
+
+void OperatorConsole::HandleInput() {
+  GLFWwindow* w = window_->get();
+  KeyEdges& keys = Keys();
+  const bool typing = imgui_ && imgui_->WantsKeyboard();
+  if (!typing) {
+    if (keys.Pressed(w, GLFW_KEY_ESCAPE)) window_->RequestClose();
+    if (keys.Pressed(w, GLFW_KEY_F1)) show_help_ = !show_help_;
+    if (keys.Pressed(w, GLFW_KEY_C)) options_.show_calibration_panel = !options_.show_calibration_panel;
+    if (keys.Pressed(w, GLFW_KEY_H)) options_.show_hud = !options_.show_hud;
+    if (keys.Pressed(w, GLFW_KEY_M)) options_.show_map = !options_.show_map;
+    for (int i = 0; i < 9; ++i) {
+      if (keys.Pressed(w, GLFW_KEY_1 + i)) options_.mode = kModes[i];
+    }
+    if (keys.Pressed(w, GLFW_KEY_T)) commands_->RequestControl(true);
+    if (keys.Pressed(w, GLFW_KEY_R)) commands_->RequestControl(false);
+    if (keys.Pressed(w, GLFW_KEY_X)) commands_->SendEmergencyStop(true);
+    if (keys.Pressed(w, GLFW_KEY_U)) commands_->SendEmergencyStop(false);
+    if (keys.Pressed(w, GLFW_KEY_EQUAL) || keys.Pressed(w, GLFW_KEY_KP_ADD) ||
+        keys.Pressed(w, GLFW_KEY_PAGE_UP)) {
+      mapper_.ScaleUp();
+    }
+    if (keys.Pressed(w, GLFW_KEY_MINUS) || keys.Pressed(w, GLFW_KEY_KP_SUBTRACT) ||
+        keys.Pressed(w, GLFW_KEY_PAGE_DOWN)) {
+      mapper_.ScaleDown();
+    }
+  }
+  if (scripted_drive_) {
+    drive_ = *scripted_drive_;
+  } else {
+    DriveInputState input;
+    auto down = [w, typing](int key) { return !typing && glfwGetKey(w, key) == GLFW_PRESS; };
+    input.forward = down(GLFW_KEY_UP) || down(GLFW_KEY_W);
+    input.backward = down(GLFW_KEY_DOWN) || down(GLFW_KEY_S);
+    input.left = down(GLFW_KEY_LEFT) || down(GLFW_KEY_A);
+    input.right = down(GLFW_KEY_RIGHT) || down(GLFW_KEY_D);
+    GLFWgamepadstate pad;
+    if (glfwJoystickIsGamepad(GLFW_JOYSTICK_1) && glfwGetGamepadState(GLFW_JOYSTICK_1, &pad)) {
+      input.gamepad_present = true;
+      input.stick_linear = -pad.axes[GLFW_GAMEPAD_AXIS_LEFT_Y];
+      input.stick_angular = -pad.axes[GLFW_GAMEPAD_AXIS_RIGHT_X];
+      input.gamepad_deadman = pad.buttons[GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER] == GLFW_PRESS;
+    }
+    drive_ = options_.pilot ? mapper_.Map(input) : DriveOutput{};
+  }
+  commands_->SetDrive(drive_);
+}
+
+void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
+                                   render::OverlayGeometry* overlay,
+                                   fusion::ArFeatures* features) {
+  if (scan) {
+    fusion::ArFeatureOptions ar = options_.ar;
+    ar.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
+    if (options_.show_calibration_panel) {  // rays and lines help while calibrating
+      ar.rays_enabled = true;
+      ar.vertical_lines_enabled = true;
+    }
+    std::string error;
+    auto builder = fusion::ArFeatureBuilder::Create(ar, &error);
+    if (!builder) {
+      status_line_ = "AR options: " + error;
+      builder = builder_;
+    }
+    builder->Build(*scan, features);
+    overlay->triangles = features->walls;
+    Append(features->rays, &overlay->lines);
+    Append(features->circles, &overlay->lines);
+    Append(features->vertical_lines, &overlay->lines);
+    overlay->points = features->laser_points;
+  }
+  if (drive_.enable) {
+    fusion::PredictedPathOptions path = options_.path;
+    path.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
+    fusion::BuildPredictedPath(drive_.linear_mps, drive_.angular_radps, path, &overlay->lines);
+  }
+}
+
+bool OperatorConsole::Frame() {
+  Window::PollEvents();
+  HandleInput();
+  const std::optional<client::DecodedStereoPair> pair = video_->Latest();
+  const bool new_pair = pair && pair->sequence != last_pair_;
+  if (options_.headless && !new_pair) return false;
+  const SteadyTime start = clock_->SteadyNow();
+
+  const client::RobotSnapshot robot = robot_->Snapshot();
+  const std::optional<LaserScan> scan =
+      pair ? robot_->NearestScan(pair->stamp) : robot.latest_scan;
+  render::OverlayGeometry overlay;
+  fusion::ArFeatures features;
+  BuildOverlay(scan, &overlay, &features);
+
+  for (int e = 0; e < 2; ++e) {
+    const math::CameraModel model(options_.calibration,
+                                  e == 0 ? math::Eye::kLeft : math::Eye::kRight);
+    const math::GlMatrices m = model.OpenGlMatrices(0.05, 100.0);
+    static const cv::Mat kEmpty;
+    const cv::Mat& image = pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
+    eyes_[e].Render(image, m.projection, m.view, overlay,
+                    e == 0 ? options_.left_alignment : options_.right_alignment);
+  }
+  int fb_w = 0;
+  int fb_h = 0;
+  window_->FramebufferSize(&fb_w, &fb_h);
+  compositor_.Compose(options_.mode, eyes_[0].texture(), eyes_[1].texture(), fb_w, fb_h,
+                      window_->quad_buffer());
+  imgui_->BeginFrame();
+  DrawPanels(robot, features, pair, fb_w, fb_h);
+  imgui_->EndFrame();
+  if (new_pair) {
+    last_pair_ = pair->sequence;
+    ++rendered_pairs_;
+    if (options_.headless) last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
+    // Capture-to-display age, on the robot's clock when the offset is known.
+    Time now = clock_->Now();
+    if (robot.clock.known) now = robot.clock.ToResponderTime(now);
+    display_age_ms_ = ToSeconds(now - pair->stamp) * 1e3;
+  }
+  window_->SwapBuffers();
+  frame_time_ms_ = ToSeconds(clock_->SteadyNow() - start) * 1e3;
+  return new_pair;
+}
+
+void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
+                                 const fusion::ArFeatures& features,
+                                 const std::optional<client::DecodedStereoPair>& pair, int fb_w,
+                                 int fb_h) {
+  if (options_.ar.labels_enabled) DrawLabels(features, fb_w, fb_h);
+  if (options_.show_hud) DrawHud(robot, pair);
+  if (options_.show_map) DrawMap(robot, features);
+  if (options_.show_calibration_panel) DrawCalibrationPanel();
+  if (show_help_) DrawHelp();
+}
+
+void OperatorConsole::DrawLabels(const fusion::ArFeatures& features, int fb_w, int fb_h) {
+  // Each eye's image occupies a rectangle of the window depending on the display mode.
+  struct EyeRect {
+    math::Eye eye;
+    float x, y, w, h;
+  };
+  std::vector<EyeRect> rects;
+  const float fw = static_cast<float>(fb_w);
+  const float fh = static_cast<float>(fb_h);
+  switch (options_.mode) {
+    case render::DisplayMode::kSideBySideFull:
+    case render::DisplayMode::kSideBySideHalf:
+      rects.push_back({math::Eye::kLeft, 0, 0, fw / 2, fh});
+      rects.push_back({math::Eye::kRight, fw / 2, 0, fw / 2, fh});
+      break;
+    case render::DisplayMode::kTopBottom:
+      rects.push_back({math::Eye::kLeft, 0, 0, fw, fh / 2});
+      rects.push_back({math::Eye::kRight, 0, fh / 2, fw, fh / 2});
+      break;
+    case render::DisplayMode::kMonoRight:
+      rects.push_back({math::Eye::kRight, 0, 0, fw, fh});
+      break;
+    default:
+      rects.push_back({math::Eye::kLeft, 0, 0, fw, fh});
+      break;
+  }
+  ImDrawList* draw = ImGui::GetForegroundDrawList();
+  const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+  for (const EyeRect& r : rects) {
+    const math::CameraModel model(options_.calibration, r.eye);
+    for (const fusion::DistanceLabel& label : features.labels) {
+      const auto px = model.Project(
+          Eigen::Vector3d(label.anchor_x_m, label.anchor_y_m, label.anchor_z_m));
+      if (!px || !model.IsInImage(*px)) continue;
+      const float x = (r.x + static_cast<float>((*px)(0) + 0.5) * r.w / model.width_px()) / scale.x;
+      const float y = (r.y + static_cast<float>((*px)(1) + 0.5) * r.h / model.height_px()) / scale.y;
+      const ImVec2 size = ImGui::CalcTextSize(label.text.c_str());
+      const ImVec2 top_left(x - size.x / 2 - 4, y - size.y - 4);
+      draw->AddRectFilled(top_left, ImVec2(x + size.x / 2 + 4, y), IM_COL32(0, 0, 0, 170), 4);
+      draw->AddText(ImVec2(x - size.x / 2, y - size.y - 2), ToImColor(label.color),
+                    label.text.c_str());
+    }
+  }
+}
+
+void OperatorConsole::DrawHud(const client::RobotSnapshot& robot,
+                              const std::optional<client::DecodedStereoPair>& pair) {
+  const client::ReceiverStats video = video_->Stats();
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.55f);
+  ImGui::Begin("HUD", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                   ImGuiWindowFlags_NoMove);
+  const SteadyTime now = clock_->SteadyNow();
+  ImGui::Text("video %.1f fps  %.2f Mbit/s  age %.0f ms", video.pair_rate_hz,
+              video.bitrate_bps / 1e6, pair ? display_age_ms_ : 0.0);
+  ImGui::Text("scan %.1f Hz  frame %.1f ms  %s", robot.scan_rate_hz, frame_time_ms_,
+              render::DisplayModeName(options_.mode));
+  if (video.broken_images > 0 || video.pairs_dropped > 0) {
+    ImGui::Text("dropped pairs %llu  broken JPEG %llu",
+                static_cast<unsigned long long>(video.pairs_dropped),
+                static_cast<unsigned long long>(video.broken_images));
+  }
+  if (robot.clock.known) {
+    ImGui::Text("clock offset %+.1f ms  rtt %.1f ms",
+                ToSeconds(robot.clock.responder_minus_requester) * 1e3,
+                ToSeconds(robot.clock.round_trip) * 1e3);
+  }
+  const bool health_fresh =
+      robot.health && now - robot.last_health_received < std::chrono::seconds(3);
+  if (!health_fresh) {
+    ImGui::TextColored(ImVec4(1, 0.3f, 0.2f, 1), "NO CONTACT WITH THE ROBOT");
+  } else {
+    const RobotHealth& h = *robot.health;
+    const std::string holder = robot.lease ? robot.lease->holder_id : h.lease_holder;
+    const bool me = holder == options_.client_id;
+    ImGui::Text("pilot: %s%s   watchdog: %s", holder.empty() ? "(nobody)" : holder.c_str(),
+                me ? " (you)" : "", WatchdogStateName(h.watchdog_state));
+    if (h.estop_engaged) ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "EMERGENCY STOP (U releases)");
+    for (const DeviceHealth& d : h.devices) {
+      if (d.state == DeviceState::kOk) continue;
+      ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s %s: %s", d.name.c_str(),
+                         DeviceStateName(d.state), d.message.c_str());
+    }
+  }
+  if (options_.pilot) {
+    ImGui::Text("drive %s  v %.2f m/s  w %.2f rad/s  scale %.0f%%", drive_.enable ? "ON" : "off",
+                drive_.linear_mps, drive_.angular_radps, mapper_.scale() * 100);
+  } else {
+    ImGui::Text("observer (no driving)");
+  }
+  if (!status_line_.empty()) ImGui::TextUnformatted(status_line_.c_str());
+  ImGui::TextDisabled("F1 help");
+  ImGui::End();
+}
+
+void OperatorConsole::DrawMap(const client::RobotSnapshot& robot,
+                              const fusion::ArFeatures& features) {
+  (void)robot;
+  const float size = 220.f;
+  const float range_m = 4.f;
+  ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - size - 24, 8), ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.55f);
+  ImGui::Begin("Laser map", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                   ImGuiWindowFlags_NoMove);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImGui::Dummy(ImVec2(size, size));
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const float scale = size / (2 * range_m);
+  // Robot at the bottom centre, forward up; laser x forward -> screen up, y left -> screen left.
+  const ImVec2 robot_px(origin.x + size / 2, origin.y + size - 10);
+  auto to_screen = [&](float x, float y) {
+    return ImVec2(robot_px.x - y * scale, robot_px.y - x * scale);
+  };
+  for (float r = 0.5f; r <= 2 * range_m; r += 0.5f) {
+    draw->AddCircle(robot_px, r * scale, IM_COL32(255, 255, 255, r == std::floor(r) ? 70 : 35),
+                    64);
+  }
+  for (const fusion::ScanPointLabel& p : features.points) {
+    if (!p.valid) continue;
+    const ImVec2 s = to_screen(p.x_m, p.y_m);
+    if (s.x < origin.x || s.x > origin.x + size || s.y < origin.y || s.y > origin.y + size) {
+      continue;
+    }
+    draw->AddRectFilled(ImVec2(s.x - 1.5f, s.y - 1.5f), ImVec2(s.x + 1.5f, s.y + 1.5f),
+                        ToImColor(p.color));
+  }
+  draw->AddTriangleFilled(ImVec2(robot_px.x, robot_px.y - 9), ImVec2(robot_px.x - 6, robot_px.y + 4),
+                          ImVec2(robot_px.x + 6, robot_px.y + 4), IM_COL32(80, 160, 255, 255));
+  ImGui::End();
+}
+
+void OperatorConsole::DrawCalibrationPanel() {
+  math::LaserCameraCalibration& c = options_.calibration;
+  ImGui::SetNextWindowPos(ImVec2(8, 190), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Calibration", &options_.show_calibration_panel);
+  ImGui::TextWrapped(
+      "Order: 1 focal on far objects, 2 y and tilt on the floor, 3 z on near objects, "
+      "4 x last. Rays and lines are shown while this panel is open.");
+  math::LaserCameraCalibration edit = c;
+  float focal = static_cast<float>(edit.focal_px);
+  float y = static_cast<float>(edit.camera_y_m);
+  float tilt_deg = static_cast<float>(edit.tilt_rad * kRadToDeg);
+  float z = static_cast<float>(edit.camera_z_m);
+  float x = static_cast<float>(edit.camera_x_m);
+  float pan_deg = static_cast<float>(edit.pan_rad * kRadToDeg);
+  float roll_deg = static_cast<float>(edit.roll_rad * kRadToDeg);
+  float baseline = static_cast<float>(edit.baseline_m());
+  float laser_h = static_cast<float>(edit.laser_height_m);
+  bool changed = false;
+  changed |= ImGui::SliderFloat("1 focal [px]", &focal, 150, 2000, "%.1f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Scales the overlay: match far walls first.");
+  changed |= ImGui::SliderFloat("2 camera y [m]", &y, -0.5f, 2.0f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Height above the scan plane: moves floor rays.");
+  changed |= ImGui::SliderFloat("2 tilt [deg]", &tilt_deg, -45, 45, "%.2f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Down is positive: moves the overlay vertically.");
+  changed |= ImGui::SliderFloat("3 camera z [m]", &z, -1.0f, 1.0f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Ahead of the laser: matters on near objects.");
+  changed |= ImGui::SliderFloat("4 camera x [m]", &x, -0.5f, 0.5f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Right of the laser: shifts sideways.");
+  changed |= ImGui::SliderFloat("pan [deg]", &pan_deg, -20, 20, "%.2f");
+  changed |= ImGui::SliderFloat("roll [deg]", &roll_deg, -10, 10, "%.2f");
+  changed |= ImGui::SliderFloat("baseline [m]", &baseline, 0.0f, 0.3f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Distance between the eyes (5-20 cm).");
+  changed |= ImGui::SliderFloat("laser height [m]", &laser_h, 0.05f, 1.5f, "%.3f");
+  if (changed) {
+    edit.focal_px = focal;
+    edit.camera_y_m = y;
+    edit.tilt_rad = tilt_deg / kRadToDeg;
+    edit.camera_z_m = z;
+    edit.camera_x_m = x;
+    edit.pan_rad = pan_deg / kRadToDeg;
+    edit.roll_rad = roll_deg / kRadToDeg;
+    edit.left_eye_x_offset_m = -baseline / 2;
+    edit.right_eye_x_offset_m = baseline / 2;
+    edit.laser_height_m = laser_h;
+    std::string error;
+    if (edit.IsValid(&error)) {
+      c = edit;
+    } else {
+      status_line_ = "calibration: " + error;
+    }
+  }
+  const std::string path =
+      options_.calibration_path.empty() ? "calibration_profile.pbtxt" : options_.calibration_path;
+  if (ImGui::Button("Save")) {
+    std::string error;
+    status_line_ = math::SaveCalibrationProfile(path, c, "operator", &error)
+                       ? "saved " + path
+                       : "save failed: " + error;
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Load")) {
+    std::string error;
+    math::LaserCameraCalibration loaded;
+    if (math::LoadCalibrationProfile(path, &loaded, &error)) {
+      c = loaded;
+      status_line_ = "loaded " + path;
+    } else {
+      status_line_ = "load failed: " + error;
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Reset")) c = math::LaserCameraCalibration{};
+  ImGui::Separator();
+  ImGui::Text("AR features");
+  ImGui::Checkbox("walls", &options_.ar.walls_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("rays", &options_.ar.rays_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("lines", &options_.ar.vertical_lines_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("circles", &options_.ar.circles_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("labels", &options_.ar.labels_enabled);
+  ImGui::SliderFloat("red below [m]", &options_.ar.min_distance_m, 0.1f, 3.0f, "%.2f");
+  ImGui::SliderFloat("green above [m]", &options_.ar.max_distance_m,
+                     options_.ar.min_distance_m + 0.1f, 8.0f, "%.2f");
+  ImGui::SliderFloat("slopeTh", &options_.ar.segmentation.slope_threshold, 0.005f, 0.5f, "%.3f");
+  ImGui::Separator();
+  ImGui::Text("Stereo alignment (right eye image offset, px)");
+  ImGui::SliderFloat("dx", &options_.right_alignment.offset_x_px, -40, 40, "%.1f");
+  ImGui::SliderFloat("dy", &options_.right_alignment.offset_y_px, -40, 40, "%.1f");
+  // Crop the borders without correspondence in both eyes.
+  const float dx = options_.right_alignment.offset_x_px;
+  const float dy = options_.right_alignment.offset_y_px;
+  for (render::EyeAlignment* a : {&options_.left_alignment, &options_.right_alignment}) {
+    a->crop_left_px = dx > 0 ? dx : 0;
+    a->crop_right_px = dx < 0 ? -dx : 0;
+    a->crop_top_px = dy > 0 ? dy : 0;
+    a->crop_bottom_px = dy < 0 ? -dy : 0;
+  }
+  int mode_index = 0;
+  for (int i = 0; i < 9; ++i) {
+    if (kModes[i] == options_.mode) mode_index = i;
+  }
+  const char* names[9];
+  for (int i = 0; i < 9; ++i) names[i] = render::DisplayModeName(kModes[i]);
+  if (ImGui::Combo("display", &mode_index, names, 9)) options_.mode = kModes[mode_index];
+  ImGui::End();
+}
+
+void OperatorConsole::DrawHelp() {
+  ImGui::SetNextWindowPos(ImVec2(240, 120), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Help", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::TextUnformatted(
+      "Arrows / WASD   drive while held (release = stop)\n"
+      "Gamepad         left stick drive, right stick turn, hold RB\n"
+      "+ / -           speed scale\n"
+      "T / R           take / release control\n"
+      "X / U           emergency stop / release it\n"
+      "1..9            display mode (mono L/R, anaglyph, colour anaglyph,\n"
+      "                sbs, sbs-half, top-bottom, interlaced, quad-buffer)\n"
+      "C               calibration and AR panel\n"
+      "H / M           HUD / laser map\n"
+      "Esc             quit");
+  ImGui::End();
+}
+
+}  // namespace mostar::ui

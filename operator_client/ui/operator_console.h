@@ -1,0 +1,98 @@
+// The operator console: one render loop that shows the latest stereo pair with the AR overlay
+// built from the scan nearest in time, the HUD, the bird's-eye laser map, the calibration and
+// display panels, and turns keyboard/gamepad input into drive requests.
+//
+// Render thread only. It never waits on the network or on JPEG decoding: it takes the latest
+// decoded pair from StereoReceiver and the latest robot state from RobotState.
+#pragma once
+
+#include <memory>
+#include <opencv2/core/mat.hpp>
+#include <optional>
+#include <string>
+
+#include "common/math/camera_model.h"
+#include "operator_client/fusion/ar_features.h"
+#include "operator_client/fusion/predicted_path.h"
+#include "operator_client/net/robot_state.h"
+#include "operator_client/render/eye_renderer.h"
+#include "operator_client/render/stereo_compositor.h"
+#include "operator_client/ui/command_sender.h"
+#include "operator_client/ui/drive_input.h"
+#include "operator_client/ui/imgui_layer.h"
+#include "operator_client/ui/window.h"
+#include "operator_client/video/stereo_receiver.h"
+
+namespace mostar::ui {
+
+struct ConsoleOptions {
+  std::string client_id = "operator";
+  bool pilot = true;
+  render::DisplayMode mode = render::DisplayMode::kMonoLeft;
+  bool headless = false;
+  bool show_calibration_panel = false;
+  bool show_hud = true;
+  bool show_map = true;
+  std::string calibration_path;  // where "save" writes; empty: calibration_profile.pbtxt
+  math::LaserCameraCalibration calibration;
+  fusion::ArFeatureOptions ar;
+  fusion::PredictedPathOptions path;
+  DriveLimits drive;
+  render::EyeAlignment left_alignment;   // thesis 9.1 stereo alignment (image offsets, crop)
+  render::EyeAlignment right_alignment;
+};
+
+class OperatorConsole {
+ public:
+  OperatorConsole(const ConsoleOptions& options, Window* window, client::StereoReceiver* video,
+                  client::RobotState* robot, CommandSender* commands, const Clock* clock);
+  ~OperatorConsole();
+  // GL and ImGui set-up; false with a message.
+  bool Init(std::string* error);
+  // Polls input and renders one frame (in headless mode only when a new pair arrived).
+  // Returns true when a new video pair was shown.
+  bool Frame();
+  // The last composed frame that showed a new pair (BGR8), for --screenshot.
+  const cv::Mat& last_frame() const { return last_frame_; }
+  uint64_t rendered_pairs() const { return rendered_pairs_; }
+  // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
+  void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
+
+ private:
+  void HandleInput();
+  void BuildOverlay(const std::optional<LaserScan>& scan, render::OverlayGeometry* overlay,
+                    fusion::ArFeatures* features);
+  void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,
+                  const std::optional<client::DecodedStereoPair>& pair, int fb_w, int fb_h);
+  void DrawHud(const client::RobotSnapshot& robot,
+               const std::optional<client::DecodedStereoPair>& pair);
+  void DrawMap(const client::RobotSnapshot& robot, const fusion::ArFeatures& features);
+  void DrawLabels(const fusion::ArFeatures& features, int fb_w, int fb_h);
+  void DrawCalibrationPanel();
+  void DrawHelp();
+
+  ConsoleOptions options_;
+  Window* window_;
+  client::StereoReceiver* video_;
+  client::RobotState* robot_;
+  CommandSender* commands_;
+  const Clock* clock_;
+  std::unique_ptr<ImGuiLayer> imgui_;
+  render::EyeRenderer eyes_[2];
+  render::StereoCompositor compositor_;
+  std::optional<fusion::ArFeatureBuilder> builder_;
+  DriveMapper mapper_;
+  std::optional<DriveOutput> scripted_drive_;
+  DriveOutput drive_;
+  bool show_help_ = false;
+  bool rays_while_calibrating_saved_ = true;
+  std::string status_line_;
+  uint64_t last_pair_ = 0;
+  uint64_t rendered_pairs_ = 0;
+  cv::Mat last_frame_;
+  double frame_time_ms_ = 0;
+  double display_age_ms_ = 0;
+  SteadyTime last_frame_start_;
+};
+
+}  // namespace mostar::ui
