@@ -7,8 +7,8 @@
 # the robot forward, and writes the last rendered view to out/demo.png.
 #
 # Environment: BUILD_DIR (default build), DEMO_SECONDS (default 15), DISPLAY_MODE
-# (default mono-left; see operator_client --help), SOURCE (sim | test_pattern; default sim when
-# the simulator is built), SCENE (default deploy/scenes/corridor.pbtxt).
+# (default mono-left; see operator_client --help), SCENE (default deploy/scenes/corridor.pbtxt;
+# also open_room.pbtxt and checkerboard_room.pbtxt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./deploy/install-deps.sh
@@ -17,21 +17,23 @@ cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$BUILD_DIR" -j "$(nproc)" --target robot_server operator_client
 DEMO_SECONDS=${DEMO_SECONDS:-15}
 DISPLAY_MODE=${DISPLAY_MODE:-mono-left}
-SOURCE=${SOURCE:-test_pattern}
+SCENE=${SCENE:-deploy/scenes/corridor.pbtxt}
 DOMAIN=${MOSTAR_DDS_DOMAIN:-$((40 + $$ % 60))}
 mkdir -p out
 
-"$BUILD_DIR/robot_server/robot_server" --domain "$DOMAIN" --source "$SOURCE" &
+"$BUILD_DIR/robot_server/robot_server" --domain "$DOMAIN" \
+  --config deploy/config/server_sim.pbtxt --sim "$SCENE" &
 SERVER=$!
 trap 'kill -TERM $SERVER 2>/dev/null; wait $SERVER 2>/dev/null || true' EXIT
 
 if [ -n "${DISPLAY:-}" ]; then
-  "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --display "$DISPLAY_MODE"
+  "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --display "$DISPLAY_MODE" \
+    --calibration deploy/config/calibration_sim.pbtxt
 else
   echo "demo: no display, running the client headless for ${DEMO_SECONDS}s (out/demo.png)"
   xvfb-run -a -s "-screen 0 1920x1080x24" \
     "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --headless \
-    --display "$DISPLAY_MODE" --duration "$DEMO_SECONDS" --drive 0.3,0.1 \
-    --screenshot out/demo.png
+    --display "$DISPLAY_MODE" --duration "$DEMO_SECONDS" --drive 0.15,0.05 \
+    --calibration deploy/config/calibration_sim.pbtxt --screenshot out/demo.png
   echo "demo: wrote out/demo.png"
 fi

@@ -148,7 +148,11 @@ int Run(int argc, char** argv) {
   sender_options.strength = strength;
   ui::CommandSinks sinks;
   sinks.command = [&](const VelocityCommand& c) { return node->SendCommand(c); };
-  sinks.ping = [&](const ClockProbe& p) { return node->SendPing(p); };
+  sinks.ping = [&](const ClockProbe& p) {
+    ClockProbe ping = p;
+    ping.t3 = robot.PongReceipt(p.sequence - 1);
+    return node->SendPing(ping);
+  };
   sinks.control = [&](const ControlRequest& r) { return node->SendControlRequest(r); };
   sinks.estop = [&](const EmergencyStop& e) { return node->SendEmergencyStop(e); };
   sinks.on_sent = [&](const VelocityCommand& c) { trace.Add("command", c.stamp, c.sequence); };

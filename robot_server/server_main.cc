@@ -1,9 +1,13 @@
 // robot_server: the daemon on the robot. Wiring only: reads the configuration, chooses the
-// concrete devices, connects them to the DDS node, runs the control loop until SIGINT/SIGTERM.
+// concrete devices (test pattern, simulator, hardware), connects them to the safety governor,
+// the pilot lease and the DDS node, and runs the control loop until SIGINT/SIGTERM.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -14,10 +18,19 @@
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/time/rate_meter.h"
+#include "robot_server/camera/camera_factory.h"
 #include "robot_server/camera/camera_pipeline.h"
+#include "robot_server/drive/drive_config.h"
 #include "robot_server/drive/odometry.h"
+#include "robot_server/drive/pilot_lease.h"
+#include "robot_server/drive/safety_governor.h"
+#include "robot_server/drive/serial_drive_motors.h"
+#include "robot_server/laser/lms200_scanner.h"
 #include "robot_server/node/robot_node.h"
 #include "robot_server/server_config.pb.h"
+#include "robot_server/sim/scene.h"
+#include "robot_server/sim/sim_world.h"
+#include "robot_server/sim_devices/sim_devices.h"
 #include "robot_server/testpattern/test_pattern.h"
 
 namespace mostar::server {
@@ -26,69 +39,93 @@ namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
 
-// The latest pilot command and the deadman rule: the robot moves only while valid commands
-// keep arriving.
-class CommandGate {
- public:
-  CommandGate(const Clock* clock, double deadman_s, double max_age_s)
-      : clock_(clock), deadman_(FromSeconds(deadman_s)), max_age_(FromSeconds(max_age_s)) {}
+std::string DirectoryOf(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
 
-  // True when the command was accepted.
-  bool OnCommand(const VelocityCommand& cmd) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (cmd.sequence <= last_sequence_ && cmd.sender_id == last_sender_) {
-      ++rejected_;
-      return false;
-    }
-    const Duration age = clock_->Now() - cmd.stamp;
-    if (age > max_age_) {
-      ++rejected_;
-      return false;
-    }
-    last_sender_ = cmd.sender_id;
-    last_sequence_ = cmd.sequence;
-    latest_ = cmd;
-    received_at_ = clock_->SteadyNow();
-    have_command_ = true;
-    ++accepted_;
-    return true;
-  }
-  // (v, w) to apply now; zero once the deadman period has passed without a command.
-  std::pair<double, double> Target(WatchdogState* state) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!have_command_) {
-      *state = WatchdogState::kIdle;
-      return {0, 0};
-    }
-    if (clock_->SteadyNow() - received_at_ > deadman_) {
-      *state = WatchdogState::kStopping;
-      return {0, 0};
-    }
-    *state = WatchdogState::kDriving;
-    if (!latest_.enable) return {0, 0};
-    return {latest_.linear_mps, latest_.angular_radps};
-  }
-  void Fill(RobotHealth* health) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    health->lease_holder = last_sender_;
-    health->last_command_sequence = last_sequence_;
-    health->last_command_age_s =
-        have_command_ ? static_cast<float>(ToSeconds(clock_->SteadyNow() - received_at_)) : -1.f;
-  }
+std::string Resolve(const std::string& path, const std::string& base_dir) {
+  if (path.empty() || path[0] == '/' || base_dir.empty()) return path;
+  return base_dir + "/" + path;
+}
 
- private:
-  const Clock* clock_;
-  const Duration deadman_;
-  const Duration max_age_;
-  std::mutex mutex_;
-  VelocityCommand latest_;
-  std::string last_sender_;
-  uint64_t last_sequence_ = 0;
-  SteadyTime received_at_;
-  bool have_command_ = false;
-  uint64_t accepted_ = 0;
-  uint64_t rejected_ = 0;
+// The devices of one source. Null members are absent.
+struct Devices {
+  std::unique_ptr<testpattern::KinematicRobot> pattern_robot;
+  std::unique_ptr<sim::SimWorld> world;
+  std::unique_ptr<sim::SimulatedLms200> sim_laser;
+  std::unique_ptr<laser::LaserScanner> laser;       // HARDWARE
+  laser::LaserScanner* scanner = nullptr;           // the laser in use, if any
+  std::unique_ptr<drive::DriveMotors> motors;
+  std::unique_ptr<camera::StereoCamera> camera;
+  camera::CameraPipelineOptions camera_options;
 };
+
+bool MakeDevices(const ServerConfig& config, const std::string& config_dir, const Clock* clock,
+                 drive::DriveSettings* settings, Devices* devices, std::string* error) {
+  switch (config.source()) {
+    case ServerConfig::TEST_PATTERN: {
+      const TestPatternConfig& tp = config.test_pattern();
+      testpattern::RoomOptions room;
+      room.wheel_radius_m = settings->odometry.wheel_radius_m;
+      room.track_width_m = settings->odometry.track_width_m;
+      room.ticks_per_turn = static_cast<int>(settings->odometry.ticks_per_turn);
+      settings->odometry.counter_bits = 16;
+      auto robot = std::make_unique<testpattern::KinematicRobot>(room, clock);
+      devices->camera = std::make_unique<testpattern::TestPatternCamera>(
+          robot.get(), tp.width_px(), tp.height_px(), tp.frame_rate_hz(), clock);
+      devices->camera_options.bitrate.initial_quality = tp.jpeg_quality();
+      devices->pattern_robot = std::move(robot);
+      return true;
+    }
+    case ServerConfig::SIM: {
+      if (config.scene_file().empty()) {
+        *error = "source SIM needs a scene: --sim FILE or scene_file in the configuration";
+        return false;
+      }
+      const std::string scene_path = Resolve(config.scene_file(), config_dir);
+      sim::proto::Scene scene;
+      if (!sim::LoadScene(scene_path, &scene, error)) return false;
+      if (!sim::ValidateSimConfig(config.sim(), "sim", error)) return false;
+      devices->world = sim::SimWorld::Create(scene, config.sim(), clock->Now(), error);
+      if (!devices->world) return false;
+      // Odometry uses the simulated robot's geometry.
+      const auto& drive = devices->world->drive_params();
+      settings->odometry.wheel_radius_m = drive.wheel_radius_m;
+      settings->odometry.track_width_m = drive.track_width_m;
+      settings->odometry.ticks_per_turn = drive.encoder_pulses_per_turn;
+      settings->odometry.counter_bits = drive.encoder_counter_bits;
+      devices->motors = std::make_unique<sim::SimDriveMotors>(devices->world.get(), clock);
+      devices->camera = std::make_unique<sim::SimStereoCamera>(
+          devices->world.get(), config.test_pattern().frame_rate_hz(), clock);
+      devices->camera_options.bitrate.initial_quality = config.test_pattern().jpeg_quality();
+      const std::string link =
+          config.sim_laser_link() + "-" + std::to_string(static_cast<long>(getpid()));
+      devices->sim_laser =
+          sim::SimulatedLms200::Create(devices->world.get(), config.laser(), link, clock, error);
+      if (!devices->sim_laser) return false;
+      devices->scanner = devices->sim_laser->scanner();
+      return true;
+    }
+    case ServerConfig::HARDWARE: {
+      devices->camera = camera::MakeStereoCamera(config.camera(), clock, error);
+      if (!devices->camera) return false;
+      devices->camera_options = camera::MakePipelineOptions(config.camera());
+      devices->laser = laser::MakeSerialLms200Scanner(config.laser(), clock);
+      if (!devices->laser) {
+        *error = "cannot create the LMS200 driver for " + config.laser().port();
+        return false;
+      }
+      devices->scanner = devices->laser.get();
+      auto motors = drive::SerialDriveMotors::Open(*clock, settings->motors, error);
+      if (!motors) return false;
+      devices->motors = std::move(motors);
+      return true;
+    }
+  }
+  *error = "unknown source";
+  return false;
+}
 
 int Run(int argc, char** argv) {
   CLI::App app{"robot_server: publishes the robot's stereo frames, laser scans, odometry and "
@@ -97,10 +134,10 @@ int Run(int argc, char** argv) {
   int domain = -1;
   std::string dds_profile;
   std::string source;
+  std::string scene;
   double duration_s = 0;
   std::string log_level = "info";
   std::string trace_path;
-  app.add_option("--trace", trace_path, "write published stamps and accepted commands to this CSV");
   app.add_option("-c,--config", config_path, "server configuration (protobuf text format)")
       ->check(CLI::ExistingFile);
   app.add_option("--domain", domain, "DDS domain id (default: config, then MOSTAR_DDS_DOMAIN)")
@@ -108,10 +145,13 @@ int Run(int argc, char** argv) {
   app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
   app.add_option("--source", source, "test_pattern | sim | hardware (overrides the config)")
       ->check(CLI::IsMember({"test_pattern", "sim", "hardware"}));
+  app.add_option("--sim", scene, "run the simulated robot in this scene (implies --source sim)")
+      ->check(CLI::ExistingFile);
   app.add_option("--duration", duration_s, "stop after this many seconds (0 = run until signal)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-level", log_level, "debug | info | warning | error")
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
+  app.add_option("--trace", trace_path, "write published stamps and accepted commands to this CSV");
   CLI11_PARSE(app, argc, argv);
 
   LogLevel level;
@@ -124,14 +164,34 @@ int Run(int argc, char** argv) {
     std::cerr << "robot_server: bad configuration: " << error << "\n";
     return 2;
   }
+  const std::string config_dir = config_path.empty() ? "" : DirectoryOf(config_path);
   if (source == "test_pattern") config.set_source(ServerConfig::TEST_PATTERN);
   if (source == "sim") config.set_source(ServerConfig::SIM);
   if (source == "hardware") config.set_source(ServerConfig::HARDWARE);
-  if (config.source() != ServerConfig::TEST_PATTERN) {
-    std::cerr << "robot_server: source " << ServerConfig::Source_Name(config.source())
-              << " is not available in this build\n";
+  if (!scene.empty()) {
+    config.set_source(ServerConfig::SIM);
+    config.set_scene_file(scene);
+  }
+  const std::string scene_dir = scene.empty() ? config_dir : "";
+  drive::DriveSettings settings;
+  if (!drive::DriveSettingsFromProto(config.drive(), &settings, &error)) {
+    std::cerr << "robot_server: bad configuration: drive: " << error << "\n";
     return 2;
   }
+  StampTrace trace;
+  if (!trace.Open(trace_path)) {
+    std::cerr << "robot_server: cannot write " << trace_path << "\n";
+    return 2;
+  }
+
+  const Clock* clock = &SystemClock::Instance();
+  Devices devices;
+  if (!MakeDevices(config, scene_dir, clock, &settings, &devices, &error)) {
+    std::cerr << "robot_server: " << error << "\n";
+    return 2;
+  }
+  drive::DriveMotors* motors =
+      devices.pattern_robot ? devices.pattern_robot.get() : devices.motors.get();
 
   dds::ParticipantOptions dds_options;
   dds_options.domain_id = domain >= 0 ? domain
@@ -144,31 +204,55 @@ int Run(int argc, char** argv) {
     return 1;
   }
 
-  StampTrace trace;
-  if (!trace.Open(trace_path)) {
-    std::cerr << "robot_server: cannot write " << trace_path << "\n";
-    return 2;
+  drive::PilotLease lease(*clock, settings.roles);
+  drive::SafetyGovernor governor(*clock, settings.safety);
+  if (settings.roles.size() == 0) {
+    MOSTAR_LOG(WARNING) << "no pilots in the role table (drive.roles): nobody can drive";
   }
-  const Clock* clock = &SystemClock::Instance();
-  CommandGate gate(clock, config.deadman_s(), config.max_command_age_s());
+  std::mutex command_mutex;
+  std::map<std::string, SteadyTime> last_command_from;  // for holder liveliness
+  std::unique_ptr<RobotNode> node;
+  std::atomic<bool> lease_changed{true};
+
   RobotNode::Callbacks callbacks;
-  callbacks.on_command = [&gate, &trace](const VelocityCommand& cmd) {
-    if (gate.OnCommand(cmd)) trace.Add("command", cmd.stamp, cmd.sequence);
+  callbacks.on_command = [&](const VelocityCommand& cmd) {
+    {
+      std::lock_guard<std::mutex> lock(command_mutex);
+      last_command_from[cmd.sender_id] = clock->SteadyNow();
+    }
+    const std::optional<Duration> offset = node ? node->RobotMinusClient(cmd.sender_id)
+                                                : std::nullopt;
+    const drive::CommandVerdict verdict = governor.HandleCommand(cmd, offset);
+    if (verdict == drive::CommandVerdict::kAccepted) {
+      trace.Add("command", cmd.stamp, cmd.sequence);
+    } else {
+      MOSTAR_LOG_EVERY_SEC(DEBUG, 2) << "command " << cmd.sequence << " from " << cmd.sender_id
+                                     << ": " << drive::CommandVerdictName(verdict);
+    }
   };
-  auto node = RobotNode::Create(participant.get(), callbacks, clock, &error);
+  callbacks.on_estop = [&](const EmergencyStop& stop) {
+    const bool authorised =
+        stop.engage ? lease.MayEngageEstop(stop.sender_id)
+                    : lease.MayReleaseEstop(stop.sender_id, governor.status().estop_engaged_by);
+    governor.HandleEmergencyStop(stop, authorised);
+    MOSTAR_LOG(WARNING) << "emergency stop " << (stop.engage ? "engage" : "release") << " from "
+                        << stop.sender_id << (authorised ? "" : " refused (not authorised)");
+  };
+  callbacks.on_control_request = [&](const ControlRequest& request) {
+    const drive::LeaseDecision decision = lease.HandleRequest(request);
+    governor.SetLeaseHolder(lease.holder());
+    lease_changed = true;
+    MOSTAR_LOG(INFO) << "control " << (request.take ? "take" : "release") << " by "
+                     << request.sender_id << ": " << drive::LeaseDecisionName(decision)
+                     << "; holder now '" << lease.holder() << "'";
+  };
+  node = RobotNode::Create(participant.get(), callbacks, clock, &error);
   if (!node) {
     std::cerr << "robot_server: " << error << "\n";
     return 1;
   }
 
-  // Devices (test pattern source).
-  const TestPatternConfig& tp = config.test_pattern();
-  auto robot = std::make_unique<testpattern::KinematicRobot>(testpattern::RoomOptions{}, clock);
-  auto camera = std::make_unique<testpattern::TestPatternCamera>(
-      robot.get(), tp.width_px(), tp.height_px(), tp.frame_rate_hz(), clock);
-  camera::CameraPipelineOptions camera_options;
-  camera_options.bitrate.initial_quality = tp.jpeg_quality();
-  camera::CameraPipeline pipeline(std::move(camera), camera_options,
+  camera::CameraPipeline pipeline(std::move(devices.camera), devices.camera_options,
                                   [&node, &trace](const CompressedStereoPair& pair) {
                                     if (!node->PublishStereo(pair)) {
                                       return camera::Delivery::kSkipped;
@@ -177,59 +261,105 @@ int Run(int argc, char** argv) {
                                     trace.Add("right", pair.right.stamp, pair.sequence);
                                     return camera::Delivery::kSent;
                                   });
-  drive::OdometryOptions odom_options;
-  drive::OdometryIntegrator odometry(odom_options);
+  drive::OdometryIntegrator odometry(settings.odometry);
 
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   pipeline.Start();
 
-  std::thread scan_thread([&] {
-    uint64_t sequence = 0;
-    const Duration period = FromSeconds(1.0 / tp.scan_rate_hz());
-    SteadyTime next = clock->SteadyNow();
-    while (!g_stop) {
-      next += period;
-      const LaserScan scan = testpattern::SyntheticScan(*robot, clock->Now(), ++sequence);
-      node->PublishScan(scan);
-      trace.Add("scan", scan.stamp, scan.sequence);
-      std::this_thread::sleep_until(next);
-    }
-  });
+  auto publish_scan = [&](const LaserScan& scan) {
+    governor.SetLaserScan(scan);
+    node->PublishScan(scan);
+    trace.Add("scan", scan.stamp, scan.sequence);
+  };
+  std::thread pattern_scan_thread;
+  if (devices.pattern_robot) {
+    pattern_scan_thread = std::thread([&] {
+      uint64_t sequence = 0;
+      const Duration period = FromSeconds(1.0 / config.test_pattern().scan_rate_hz());
+      SteadyTime next = clock->SteadyNow();
+      while (!g_stop) {
+        next += period;
+        publish_scan(testpattern::SyntheticScan(*devices.pattern_robot, clock->Now(), ++sequence));
+        std::this_thread::sleep_until(next);
+      }
+    });
+  }
+  if (devices.scanner != nullptr && !devices.scanner->Start(publish_scan, &error)) {
+    std::cerr << "robot_server: laser: " << error << "\n";
+    g_stop = true;
+  }
 
   MOSTAR_LOG(INFO) << "robot_server '" << config.robot_id() << "' running on DDS domain "
                    << dds_options.domain_id << " (" << dds_options.profile << "), source "
                    << ServerConfig::Source_Name(config.source());
   const SteadyTime start = clock->SteadyNow();
-  const Duration control_period = FromSeconds(config.control_period_s());
+  const Duration control_period = settings.control_period;
   const Duration health_period = FromSeconds(config.health_period_s());
+  const Duration lease_period = FromSeconds(config.lease_period_s());
+  const Duration holder_timeout = FromSeconds(config.holder_timeout_s());
   SteadyTime next_health = start;
+  SteadyTime next_lease = start;
   SteadyTime next_cycle = start;
   RateMeter control_rate;
+  uint64_t motor_errors = 0;
   while (!g_stop) {
     next_cycle += control_period;
-    WatchdogState state;
-    const auto [v, w] = gate.Target(&state);
-    robot->SetVelocity(v, w, &error);
+    const SteadyTime now = clock->SteadyNow();
+    // A holder that went silent loses the lease: nobody inherits motion.
+    const std::string holder = lease.holder();
+    if (!holder.empty()) {
+      std::lock_guard<std::mutex> lock(command_mutex);
+      auto it = last_command_from.find(holder);
+      const SteadyTime last = it == last_command_from.end() ? start : it->second;
+      if (now - last > holder_timeout && lease.OnLivelinessLost(holder)) {
+        governor.OnLinkLost(holder);
+        governor.SetLeaseHolder(lease.holder());
+        lease_changed = true;
+        MOSTAR_LOG(WARNING) << "pilot '" << holder << "' went silent: lease released";
+      }
+    }
+    const drive::GovernorOutput out = governor.Update();
+    if (!motors->SetVelocity(out.linear_mps, out.angular_radps, &error)) {
+      ++motor_errors;
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "motors: " << error;
+    }
     drive::EncoderReading reading;
-    if (robot->ReadEncoders(&reading, &error) && odometry.AddReading(reading)) {
+    if (motors->ReadEncoders(&reading, &error) && odometry.AddReading(reading)) {
       node->PublishOdometry(odometry.odometry());
       trace.Add("odom_x_mm", odometry.odometry().stamp,
                 static_cast<uint64_t>(std::max(0.0, odometry.odometry().pose.x_m * 1000)));
     }
-    const SteadyTime now = clock->SteadyNow();
     control_rate.Tick(now);
+    if (lease_changed.exchange(false) || now >= next_lease) {
+      next_lease = now + lease_period;
+      node->PublishLease(lease.lease());
+    }
     if (now >= next_health) {
       next_health = now + health_period;
       RobotHealth health;
       health.stamp = clock->Now();
       health.robot_id = config.robot_id();
-      health.watchdog_state = state;
-      gate.Fill(&health);
+      governor.FillRobotHealth(&health);
+      health.lease_holder = lease.holder();
       health.devices.push_back(pipeline.Health());
+      if (devices.scanner != nullptr) health.devices.push_back(devices.scanner->Health());
+      health.devices.push_back(governor.Health());
+      const drive::MotorStatus status = motors->Status();
       DeviceHealth drive_health;
       drive_health.name = "drive";
       drive_health.rate_hz = static_cast<float>(control_rate.RateHz(now));
+      drive_health.state = !status.link_ok ? DeviceState::kError
+                           : status.fault  ? DeviceState::kWarn
+                                           : DeviceState::kOk;
+      if (status.fault) drive_health.message = devices.world ? "collision" : "motor fault";
+      if (!status.link_ok) drive_health.message = "no link to the motor board";
+      drive_health.counters = {{"motor_errors", motor_errors},
+                               {"odometry_glitches", odometry.stats().glitches}};
+      if (devices.world) {
+        const sim::RobotState sim_state = devices.world->StateAt(clock->Now());
+        drive_health.counters.emplace_back("collisions", sim_state.collision_count);
+      }
       health.devices.push_back(drive_health);
       node->PublishHealth(health);
     }
@@ -238,8 +368,9 @@ int Run(int argc, char** argv) {
   }
   g_stop = true;
   MOSTAR_LOG(INFO) << "robot_server stopping";
-  robot->Stop(&error);
-  scan_thread.join();
+  motors->Stop(&error);
+  if (pattern_scan_thread.joinable()) pattern_scan_thread.join();
+  if (devices.scanner != nullptr) devices.scanner->Stop();
   pipeline.Stop();
   trace.Flush();
   return 0;

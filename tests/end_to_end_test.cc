@@ -43,7 +43,10 @@ std::vector<TraceLine> ReadTrace(const std::string& path) {
   return lines;
 }
 
-std::string Bin(const char* name) { return std::string(MOSTAR_BIN_DIR) + "/" + name; }
+std::string Bin(const char* name) { return std::string(MOSTAR_TEST_BINARY_DIR) + "/" + name; }
+std::string Source(const char* path) {
+  return std::string(MOSTAR_TEST_SOURCE_DIR) + "/" + path;
+}
 
 class EndToEndTest : public ::testing::Test {
  protected:
@@ -62,13 +65,14 @@ class EndToEndTest : public ::testing::Test {
 TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
   Subprocess server;
   std::string error;
-  ASSERT_TRUE(server.Start({Bin("robot_server/robot_server"), "--domain", domain_,
-                            "--source", "test_pattern", "--trace", dir_ + "/server.csv"},
+  ASSERT_TRUE(server.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+                            Source("deploy/config/server_sim.pbtxt"), "--source",
+                            "test_pattern", "--trace", dir_ + "/server.csv"},
                            dir_ + "/server.log", &error))
       << error;
   Subprocess client;
   ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
-                            domain_, "--id", "pilot-e2e", "--duration", "6", "--drive",
+                            domain_, "--id", "operator", "--duration", "6", "--drive",
                             "0.3,0", "--trace", dir_ + "/client.csv", "--screenshot",
                             dir_ + "/client.png"},
                            dir_ + "/client.log", &error))

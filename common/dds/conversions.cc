@@ -240,6 +240,7 @@ wire::ClockProbe ToIdl(const ClockProbe& probe) {
   out.t0(ToIdl(probe.t0));
   out.t1(ToIdl(probe.t1));
   out.t2(ToIdl(probe.t2));
+  out.t3(ToIdl(probe.t3));
   return out;
 }
 
@@ -250,6 +251,7 @@ ClockProbe FromIdl(const wire::ClockProbe& probe) {
   out.t0 = FromIdl(probe.t0());
   out.t1 = FromIdl(probe.t1());
   out.t2 = FromIdl(probe.t2());
+  out.t3 = FromIdl(probe.t3());
   return out;
 }
 

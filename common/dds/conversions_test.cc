@@ -176,7 +176,7 @@ TEST(ConversionsTest, UnknownEnumValuesMapToSafeStates) {
 
 TEST(ConversionsTest, ClockProbeRoundTrip) {
   ClockProbe probe{"pilot-a", 5, kStamp, kStamp + std::chrono::milliseconds(30),
-                   kStamp + std::chrono::milliseconds(31)};
+                   kStamp + std::chrono::milliseconds(31), kStamp + std::chrono::milliseconds(45)};
   const ClockProbe back =
       FromIdl(ThroughCdr<mostar_msgs::msg::dds_::ClockProbe_PubSubType>(ToIdl(probe)));
   EXPECT_EQ(back.sender_id, "pilot-a");
@@ -184,6 +184,7 @@ TEST(ConversionsTest, ClockProbeRoundTrip) {
   EXPECT_EQ(back.t0, probe.t0);
   EXPECT_EQ(back.t1, probe.t1);
   EXPECT_EQ(back.t2, probe.t2);
+  EXPECT_EQ(back.t3, probe.t3);
 }
 
 TEST(ConversionsTest, RosTypeNamesAreExact) {

@@ -40,11 +40,13 @@ struct ControlLease {
   uint64_t lease_sequence = 0;
 };
 
-// NTP-style probe: t0 client send, t1 robot receive, t2 robot send (t3 is the client's receive).
+// NTP-style probe: t0 client send, t1 robot receive, t2 robot send. In a ping, t3 is the
+// client's receive time of the pong to ping `sequence - 1` (epoch when none came back), so the
+// robot can complete that exchange and estimate the client's clock offset as well.
 struct ClockProbe {
   std::string sender_id;
   uint64_t sequence = 0;
-  Time t0, t1, t2;
+  Time t0, t1, t2, t3;
 };
 
 }  // namespace mostar

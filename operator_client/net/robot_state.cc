@@ -32,6 +32,13 @@ void RobotState::AddClockSample(const ClockProbe& probe) {
   std::lock_guard<std::mutex> lock(mutex_);
   offset_.AddSample({probe.t0, probe.t1, probe.t2, t3});
   snapshot_.clock = offset_.Estimate();
+  last_pong_sequence_ = probe.sequence;
+  last_pong_receipt_ = t3;
+}
+
+Time RobotState::PongReceipt(uint64_t sequence) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sequence == last_pong_sequence_ ? last_pong_receipt_ : Time();
 }
 
 std::optional<LaserScan> RobotState::NearestScan(Time stamp) const {

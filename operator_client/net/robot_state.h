@@ -39,6 +39,9 @@ class RobotState {
   // A pong for one of our pings; t3 is taken now.
   void AddClockSample(const ClockProbe& probe);
 
+  // When the pong to ping `sequence` came back (epoch when it did not), for the next ping's t3.
+  Time PongReceipt(uint64_t sequence) const;
+
   // The scan whose stamp is nearest to `stamp` (robot clock), among the last 32.
   std::optional<LaserScan> NearestScan(Time stamp) const;
   RobotSnapshot Snapshot() const;
@@ -50,6 +53,8 @@ class RobotState {
   mutable RateMeter scan_rate_;
   timesync::ClockOffsetEstimator offset_;
   RobotSnapshot snapshot_;
+  uint64_t last_pong_sequence_ = 0;
+  Time last_pong_receipt_;
 };
 
 }  // namespace mostar::client

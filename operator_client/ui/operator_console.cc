@@ -77,7 +77,21 @@ bool OperatorConsole::Init(std::string* error) {
   if (!options_.calibration.IsValid(error)) return false;
   imgui_ = std::make_unique<ImGuiLayer>(window_->get());
   last_frame_start_ = clock_->SteadyNow();
+  want_control_ = options_.pilot;
+  next_control_request_ = clock_->SteadyNow();
   return true;
+}
+
+void OperatorConsole::ManageLease(const client::RobotSnapshot& robot) {
+  const SteadyTime now = clock_->SteadyNow();
+  holding_lease_ = robot.lease && robot.lease->holder_id == options_.client_id;
+  if (holding_lease_ && !holding_since_) holding_since_ = now;
+  if (!holding_lease_) holding_since_.reset();
+  // Control requests travel on a volatile topic: repeat until the lease shows the answer.
+  if (want_control_ && !holding_lease_ && now >= next_control_request_) {
+    commands_->RequestControl(true);
+    next_control_request_ = now + std::chrono::seconds(1);
+  }
 }
 
 void OperatorConsole::HandleInput() {
@@ -93,8 +107,14 @@ void OperatorConsole::HandleInput() {
     for (int i = 0; i < 9; ++i) {
       if (keys.Pressed(w, GLFW_KEY_1 + i)) options_.mode = kModes[i];
     }
-    if (keys.Pressed(w, GLFW_KEY_T)) commands_->RequestControl(true);
-    if (keys.Pressed(w, GLFW_KEY_R)) commands_->RequestControl(false);
+    if (keys.Pressed(w, GLFW_KEY_T) && options_.pilot) {
+      want_control_ = true;
+      next_control_request_ = clock_->SteadyNow();
+    }
+    if (keys.Pressed(w, GLFW_KEY_R)) {
+      want_control_ = false;
+      commands_->RequestControl(false);
+    }
     if (keys.Pressed(w, GLFW_KEY_X)) commands_->SendEmergencyStop(true);
     if (keys.Pressed(w, GLFW_KEY_U)) commands_->SendEmergencyStop(false);
     if (keys.Pressed(w, GLFW_KEY_EQUAL) || keys.Pressed(w, GLFW_KEY_KP_ADD) ||
@@ -107,7 +127,10 @@ void OperatorConsole::HandleInput() {
     }
   }
   if (scripted_drive_) {
-    drive_ = *scripted_drive_;
+    // Hold the lease, then arm with the deadman up for 0.5 s, then drive.
+    const bool armed = holding_since_ &&
+                       clock_->SteadyNow() - *holding_since_ > std::chrono::milliseconds(500);
+    drive_ = armed ? *scripted_drive_ : DriveOutput{};
   } else {
     DriveInputState input;
     auto down = [w, typing](int key) { return !typing && glfwGetKey(w, key) == GLFW_PRESS; };
@@ -159,6 +182,7 @@ void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
 
 bool OperatorConsole::Frame() {
   Window::PollEvents();
+  ManageLease(robot_->Snapshot());
   HandleInput();
   const std::optional<client::DecodedStereoPair> pair = video_->Latest();
   const bool new_pair = pair && pair->sequence != last_pair_;

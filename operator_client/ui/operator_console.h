@@ -56,6 +56,7 @@ class OperatorConsole {
   const cv::Mat& last_frame() const { return last_frame_; }
   uint64_t rendered_pairs() const { return rendered_pairs_; }
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
+  // The console first waits to hold the lease, then arms (deadman up for 0.5 s), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
 
  private:
@@ -84,7 +85,13 @@ class OperatorConsole {
   DriveMapper mapper_;
   std::optional<DriveOutput> scripted_drive_;
   DriveOutput drive_;
+  void ManageLease(const client::RobotSnapshot& robot);
+
   bool show_help_ = false;
+  bool want_control_ = false;     // pilots ask for the lease until they hold it
+  bool holding_lease_ = false;
+  SteadyTime next_control_request_;
+  std::optional<SteadyTime> holding_since_;
   bool rays_while_calibrating_saved_ = true;
   std::string status_line_;
   uint64_t last_pair_ = 0;

@@ -8,7 +8,7 @@
 namespace mostar::vision {
 
 EdgeWorker::EdgeWorker(const VisionOptions& options)
-    : custom_process_(false), pipeline_(std::make_shared<const VisionPipeline>(options)) {
+    : custom_process_(false), pipeline_(std::make_shared<VisionPipeline>(options)) {
   thread_ = std::thread(&EdgeWorker::Run, this);
 }
 
@@ -43,7 +43,7 @@ bool EdgeWorker::SetOptions(const VisionOptions& options, std::string* error) {
     return false;
   }
   if (!options.IsValid(error)) return false;
-  auto pipeline = std::make_shared<const VisionPipeline>(options);
+  auto pipeline = std::make_shared<VisionPipeline>(options);
   std::lock_guard<std::mutex> lock(mutex_);
   pipeline_ = std::move(pipeline);
   return true;
@@ -72,7 +72,7 @@ EdgeWorker::Stats EdgeWorker::stats() const {
 void EdgeWorker::Run() {
   while (true) {
     VisionInput input;
-    std::shared_ptr<const VisionPipeline> pipeline;
+    std::shared_ptr<VisionPipeline> pipeline;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       input_ready_.wait(lock, [&] { return stopping_ || pending_.has_value(); });

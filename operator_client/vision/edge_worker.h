@@ -72,12 +72,12 @@ class EdgeWorker {
   mutable std::mutex mutex_;
   mutable std::condition_variable input_ready_;
   mutable std::condition_variable result_ready_;
-  std::optional<VisionInput> pending_;              // guarded by mutex_
-  std::shared_ptr<const VisionPipeline> pipeline_;  // guarded by mutex_
-  std::shared_ptr<const VisionResult> latest_;      // guarded by mutex_
-  Stats stats_;                                     // guarded by mutex_
-  bool stopping_ = false;                           // guarded by mutex_
-  std::thread thread_;                              // last: starts after the rest exists
+  std::optional<VisionInput> pending_;          // guarded by mutex_
+  std::shared_ptr<VisionPipeline> pipeline_;    // guarded by mutex_; used by the worker only
+  std::shared_ptr<const VisionResult> latest_;  // guarded by mutex_
+  Stats stats_;                                 // guarded by mutex_
+  bool stopping_ = false;                       // guarded by mutex_
+  std::thread thread_;                          // last: starts after the rest exists
 };
 
 }  // namespace mostar::vision

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -78,6 +79,50 @@ bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, con
 // FindNearestEdges; this one asserts).
 Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera, double azimuth_rad,
                          const NearestEdgeOptions& options, bool* ray_visible = nullptr);
+
+// The pixels one virtual ray crosses, in walking order, computed once per camera and beam
+// (they depend on the calibration and the scan geometry only, not on the image).
+struct RayPixels {
+  struct Pixel {
+    int16_t col = 0;
+    int16_t row = 0;
+    int16_t previous_col = -1;  // the pixel walked before (for diagonal steps), -1 = none
+    int16_t previous_row = -1;
+    bool walking_vertically = true;  // the image of the ray is steeper than 45 degrees here
+    float enter_t_m = 0.f;           // distance along the ray where the walk enters the pixel
+    float centre_t_m = 0.f;          // middle of the ray's crossing of the pixel
+  };
+  bool visible = false;
+  double azimuth_rad = 0.0;
+  std::vector<Pixel> pixels;
+};
+
+// Walks the image of one virtual ray (see FindNearestEdgeOnRay) and records its pixels.
+RayPixels TraceRayPixels(const math::CameraModel& camera, double azimuth_rad,
+                         const NearestEdgeOptions& options);
+
+// The NEP along precomputed ray pixels; `edges` as in FindNearestEdges.
+Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
+                            const NearestEdgeOptions& options, double laser_height_m);
+
+// NED with the ray pixels of every beam cached: they are rebuilt only when the camera model
+// (compared by pointer: hand over the same shared_ptr while the calibration is unchanged), the
+// options or the scan's beam geometry change. Not thread-safe: one finder per thread and eye.
+class NearestEdgeFinder {
+ public:
+  explicit NearestEdgeFinder(const NearestEdgeOptions& options) : options_(options) {}
+
+  // As FindNearestEdges.
+  bool Find(const cv::Mat& edges, const std::shared_ptr<const math::CameraModel>& camera,
+            const LaserScan& scan, NedResult* out, std::string* error);
+
+ private:
+  NearestEdgeOptions options_;
+  std::shared_ptr<const math::CameraModel> camera_;
+  float angle_min_rad_ = 0.f;
+  float angle_increment_rad_ = 0.f;
+  std::vector<RayPixels> rays_;
+};
 
 // Floor point (laser frame) at `distance_m` from the robot base along `azimuth_rad`.
 Eigen::Vector3d FloorPointLaser(double azimuth_rad, double distance_m, double laser_height_m);

@@ -64,17 +64,20 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
 }
 
 VisionPipeline::VisionPipeline(const VisionOptions& options)
-    : options_(options), detector_(options.edges) {
+    : options_(options),
+      detector_(options.edges),
+      left_finder_(options.nearest_edge),
+      right_finder_(options.nearest_edge) {
   assert(options_.IsValid(nullptr));
 }
 
-VisionResult VisionPipeline::Process(const VisionInput& input) const {
+VisionResult VisionPipeline::Process(const VisionInput& input) {
   VisionResult result;
   Process(input, &result);
   return result;
 }
 
-void VisionPipeline::Process(const VisionInput& input, VisionResult* out) const {
+void VisionPipeline::Process(const VisionInput& input, VisionResult* out) {
   assert(out != nullptr);
   const auto start = std::chrono::steady_clock::now();
   out->stamp = input.stamp;
@@ -104,29 +107,33 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) const 
     return finish(false, why.str());
   }
 
-  const auto run_eye = [&](const cv::Mat& image, const math::CameraModel& camera, const char* name,
-                           EdgeImages* edges, NedResult* ned) {
-    if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
-      std::ostringstream why;
-      why << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
-          << camera.width_px() << "x" << camera.height_px();
-      error = why.str();
-      return false;
-    }
-    std::string why;
-    if (!detector_.Detect(image, edges, &why) ||
-        !FindNearestEdges(edges->edges, camera, input.scan, options_.nearest_edge, ned, &why)) {
-      error = std::string(name) + ": " + why;
-      return false;
-    }
-    return true;
-  };
+  const auto run_eye =
+      [&](const cv::Mat& image, const std::shared_ptr<const math::CameraModel>& camera_ptr,
+          NearestEdgeFinder* finder, const char* name, EdgeImages* edges, NedResult* ned) {
+        const math::CameraModel& camera = *camera_ptr;
+        if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
+          std::ostringstream why;
+          why << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
+              << camera.width_px() << "x" << camera.height_px();
+          error = why.str();
+          return false;
+        }
+        std::string why;
+        if (!detector_.Detect(image, edges, &why) ||
+            !finder->Find(edges->edges, camera_ptr, input.scan, ned, &why)) {
+          error = std::string(name) + ": " + why;
+          return false;
+        }
+        return true;
+      };
 
-  if (!run_eye(input.left, *input.left_camera, "left", &out->left_edges, &out->left_ned)) {
+  if (!run_eye(input.left, input.left_camera, &left_finder_, "left", &out->left_edges,
+               &out->left_ned)) {
     return finish(false, error);
   }
   if (options_.stereo) {
-    if (!run_eye(input.right, *input.right_camera, "right", &out->right_edges, &out->right_ned)) {
+    if (!run_eye(input.right, input.right_camera, &right_finder_, "right", &out->right_edges,
+                 &out->right_ned)) {
       return finish(false, error);
     }
     if (!RunNesc(out->left_ned, out->right_ned, input.scan, *input.right_camera, options_.nesc,

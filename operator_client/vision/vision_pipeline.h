@@ -3,8 +3,8 @@
 // double-check and overlay correction (8.3, 8.4). Plain data in, plain data out: no OpenGL, no
 // DDS. EdgeWorker runs it on a thread; benchmarks and the ground-truth bench call it directly.
 //
-// Threading: VisionPipeline is immutable after construction and Process() is const, so one
-// pipeline may serve several threads.
+// Threading: not thread-safe (Process() caches each eye's virtual-ray pixels, rebuilt when the
+// camera model pointer or the scan geometry changes); use one pipeline per thread.
 #pragma once
 
 #include <cstdint>
@@ -82,14 +82,16 @@ class VisionPipeline {
 
   // Processes one input. Bad input (missing camera, wrong image type or size, beam count
   // mismatch) gives ok = false with a message; never throws for bad data.
-  VisionResult Process(const VisionInput& input) const;
-  void Process(const VisionInput& input, VisionResult* out) const;
+  VisionResult Process(const VisionInput& input);
+  void Process(const VisionInput& input, VisionResult* out);
 
   const VisionOptions& options() const { return options_; }
 
  private:
   VisionOptions options_;
   EdgeDetector detector_;
+  NearestEdgeFinder left_finder_;
+  NearestEdgeFinder right_finder_;
 };
 
 }  // namespace mostar::vision

@@ -105,7 +105,7 @@ VisionInput StereoInput(double edge_distance_m, float laser_range_m) {
 }
 
 TEST(VisionPipelineTest, StereoPairThroughTheWholeChain) {
-  const VisionPipeline pipeline{VisionOptions{}};
+  VisionPipeline pipeline{VisionOptions{}};
   // A wall whose base is 2.5 m ahead, seen by the laser 4 cm further (small misalignment).
   const VisionResult result = pipeline.Process(StereoInput(2.5, 2.54f));
   ASSERT_TRUE(result.ok) << result.error;
@@ -126,7 +126,7 @@ TEST(VisionPipelineTest, MonoModeUsesTheLeftImageOnly) {
   VisionOptions options;
   options.stereo = false;
   options.keep_edge_images = false;
-  const VisionPipeline pipeline(options);
+  VisionPipeline pipeline(options);
   VisionInput input = StereoInput(1.5, 4.0f);  // the laser does not see the low obstacle
   input.right = cv::Mat();
   input.right_camera = nullptr;
@@ -140,7 +140,7 @@ TEST(VisionPipelineTest, MonoModeUsesTheLeftImageOnly) {
 }
 
 TEST(VisionPipelineTest, BadInputGivesAMessageNotACrash) {
-  const VisionPipeline pipeline{VisionOptions{}};
+  VisionPipeline pipeline{VisionOptions{}};
   VisionInput input = StereoInput(2.0, 2.0f);
   input.right = cv::Mat(100, 100, CV_8UC3, cv::Scalar(0));
   VisionResult result = pipeline.Process(input);

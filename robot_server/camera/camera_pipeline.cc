@@ -123,6 +123,11 @@ void CameraPipeline::CaptureLoop() {
 
     StereoImagePair pair;
     const GrabResult result = camera_->Grab(options_.grab_timeout, &pair);
+    {
+      std::vector<std::pair<std::string, uint64_t>> counters = camera_->Counters();
+      std::lock_guard<std::mutex> lock(mutex_);
+      camera_counters_ = std::move(counters);
+    }
     switch (result.status) {
       case GrabStatus::kOk: {
         consecutive_timeouts = 0;
@@ -252,6 +257,7 @@ DeviceHealth CameraPipeline::Health() const {
       {"bitrate_bps", rounded(bitrate_stats_.achieved_bits_per_s)},
       {"target_bitrate_bps", rounded(bitrate_stats_.target_bits_per_s)},
   };
+  health.counters.insert(health.counters.end(), camera_counters_.begin(), camera_counters_.end());
   return health;
 }
 

@@ -17,6 +17,8 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "common/time/rate_meter.h"
 #include "common/time/time.h"
@@ -67,8 +69,8 @@ class CameraPipeline {
   // Health snapshot (any thread): state, message and counters frames, pairs_delivered,
   // pairs_skipped_at_source, slot_drops, divided (not encoded: frame-rate divisor), timeouts,
   // device_lost, reopen_attempts, open_failures, encode_errors, jpeg_quality,
-  // jpeg_scale_percent, frame_rate_divisor, bitrate_bps, target_bitrate_bps; rate_hz is the
-  // delivered pair rate.
+  // jpeg_scale_percent, frame_rate_divisor, bitrate_bps, target_bitrate_bps, then the
+  // camera's own StereoCamera::Counters(); rate_hz is the delivered pair rate.
   DeviceHealth Health() const;
   BitrateStats bitrate_stats() const;
 
@@ -111,6 +113,7 @@ class CameraPipeline {
   int frame_rate_divisor_ = 1;
   double pending_target_bits_per_s_ = -1;  // < 0: no change requested
   BitrateStats bitrate_stats_;
+  std::vector<std::pair<std::string, uint64_t>> camera_counters_;
   mutable RateMeter delivered_rate_;
 };
 

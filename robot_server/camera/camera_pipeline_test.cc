@@ -100,6 +100,7 @@ TEST_F(CameraPipelineTest, DeliversCompressedPairsAndReportsHealth) {
   EXPECT_EQ(Counter(health, "encode_errors"), 0u);
   EXPECT_EQ(Counter(health, "jpeg_quality"), 80u);
   EXPECT_EQ(Counter(health, "jpeg_scale_percent"), 100u);
+  EXPECT_EQ(Counter(health, "fake_pairs_delivered"), 2u);  // the camera's own counters
   pipeline_->Stop();
   EXPECT_EQ(pipeline_->Health().state, DeviceState::kOff);
 }

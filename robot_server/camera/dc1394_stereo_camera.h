@@ -15,6 +15,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/time/time.h"
 #include "robot_server/camera/stereo_camera.h"
@@ -47,6 +49,10 @@ class Dc1394StereoCamera final : public StereoCamera {
   void Close() override;
   bool IsOpen() const override { return open_; }
   StereoCameraInfo Info() const override;
+  // ring_dropped_frames: older ring-buffer frames skipped and frames dropped while matching.
+  std::vector<std::pair<std::string, uint64_t>> Counters() const override {
+    return {{"ring_dropped_frames", dropped_frames_}};
+  }
   uint64_t dropped_frames() const { return dropped_frames_; }
 
  private:

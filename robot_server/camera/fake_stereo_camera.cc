@@ -205,6 +205,11 @@ bool FakeStereoCamera::IsOpen() const {
   return open_;
 }
 
+std::vector<std::pair<std::string, uint64_t>> FakeStereoCamera::Counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {{"fake_pairs_delivered", delivered_}};
+}
+
 StereoCameraInfo FakeStereoCamera::Info() const {
   StereoCameraInfo info;
   info.backend = "fake";

@@ -61,6 +61,8 @@ class FakeStereoCamera final : public StereoCamera {
   void Close() override;
   bool IsOpen() const override;
   StereoCameraInfo Info() const override;
+  // fake_pairs_delivered.
+  std::vector<std::pair<std::string, uint64_t>> Counters() const override;
 
  private:
   enum class EventKind { kSynthetic, kPair, kTimeout, kDeviceLost, kEndOfStream };

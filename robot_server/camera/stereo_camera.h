@@ -13,6 +13,7 @@
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "common/time/time.h"
 
@@ -74,6 +75,9 @@ class StereoCamera {
   // Resolution, rate and device names; valid after a successful Open() (configured values
   // before).
   virtual StereoCameraInfo Info() const = 0;
+  // Backend-specific counters for the health report (e.g. frames dropped while pairing, skew
+  // between the eyes in microseconds), appended to CameraPipeline's counters. Default: none.
+  virtual std::vector<std::pair<std::string, uint64_t>> Counters() const { return {}; }
 };
 
 }  // namespace mostar::camera

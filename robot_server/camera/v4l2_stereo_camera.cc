@@ -1,5 +1,6 @@
 #include "robot_server/camera/v4l2_stereo_camera.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -179,6 +180,17 @@ StereoCameraInfo V4l2StereoCamera::Info() const {
   info.height_px = open_ ? height_px_ : options_.height_px;
   info.frame_rate_hz = open_ && frame_rate_hz_ > 0 ? frame_rate_hz_ : options_.frame_rate_hz;
   return info;
+}
+
+std::vector<std::pair<std::string, uint64_t>> V4l2StereoCamera::Counters() const {
+  const StereoPairerStats stats = pairer_stats();
+  const auto abs_us = [](double ns) {
+    return static_cast<uint64_t>(std::llround(std::abs(ns) * 1e-3));
+  };
+  return {{"pair_dropped_left", stats.dropped_left + stats.dropped_pairs},
+          {"pair_dropped_right", stats.dropped_right + stats.dropped_pairs},
+          {"pair_skew_us_abs", abs_us(static_cast<double>(stats.mean_skew.count()))},
+          {"pair_drift_us_per_s_abs", abs_us(stats.drift_ns_per_s)}};
 }
 
 StereoPairerStats V4l2StereoCamera::pairer_stats() const {

@@ -46,6 +46,9 @@ class V4l2StereoCamera final : public StereoCamera {
   void Close() override;
   bool IsOpen() const override;
   StereoCameraInfo Info() const override;
+  // pair_dropped_left / _right (unpaired frames), pair_skew_us_abs (|mean left - right|),
+  // pair_drift_us_per_s_abs (how fast the two free-running cameras slide apart).
+  std::vector<std::pair<std::string, uint64_t>> Counters() const override;
   StereoPairerStats pairer_stats() const;
 
  private:

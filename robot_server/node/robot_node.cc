@@ -60,12 +60,8 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
         }
       });
   node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(
-      p, topics::kClockPing, Stream::kControl, [self](const dds::wire::ClockProbe& ping) {
-        ClockProbe probe = dds::FromIdl(ping);
-        probe.t1 = self->clock_->Now();
-        probe.t2 = self->clock_->Now();
-        self->pong_->Write(dds::ToIdl(probe));
-      });
+      p, topics::kClockPing, Stream::kControl,
+      [self](const dds::wire::ClockProbe& ping) { self->OnPing(dds::FromIdl(ping)); });
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) ||
       !Check(node->lease_, error) || !Check(node->pong_, error) ||
@@ -74,6 +70,33 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
     return nullptr;
   }
   return node;
+}
+
+void RobotNode::OnPing(const ClockProbe& ping) {
+  const Time received = clock_->Now();
+  {
+    // Complete the previous exchange with the client's receive time carried by this ping.
+    std::lock_guard<std::mutex> lock(pong_mutex_);
+    auto it = last_pong_.find(ping.sender_id);
+    if (it != last_pong_.end() && it->second.sequence + 1 == ping.sequence &&
+        ToUnixNanos(ping.t3) > 0) {
+      clock_offsets_.AddSample(ping.sender_id,
+                               {it->second.t0, it->second.t1, it->second.t2, ping.t3});
+    }
+  }
+  ClockProbe pong = ping;
+  pong.t1 = received;
+  pong.t2 = clock_->Now();
+  pong.t3 = Time();
+  pong_->Write(dds::ToIdl(pong));
+  std::lock_guard<std::mutex> lock(pong_mutex_);
+  last_pong_[ping.sender_id] = pong;
+}
+
+std::optional<Duration> RobotNode::RobotMinusClient(const std::string& client_id) const {
+  const timesync::ClockOffsetEstimate estimate = clock_offsets_.Estimate(client_id);
+  if (!estimate.known) return std::nullopt;
+  return estimate.responder_minus_requester;
 }
 
 bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {

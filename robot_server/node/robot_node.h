@@ -6,10 +6,14 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 
 #include "common/dds/endpoint.h"
+#include "common/timesync/clock_offset_estimator.h"
 #include "common/time/time.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
@@ -42,6 +46,9 @@ class RobotNode {
   void PublishHealth(const RobotHealth& health);
   void PublishLease(const ControlLease& lease);
 
+  // Robot clock minus the client's clock, once enough ping exchanges completed.
+  std::optional<Duration> RobotMinusClient(const std::string& client_id) const;
+
   // Remote endpoints currently matched (for health: how many viewers and pilots).
   int frame_subscribers() const { return left_->matched(); }
   int command_writers() const { return command_->matched(); }
@@ -49,8 +56,13 @@ class RobotNode {
  private:
   RobotNode() = default;
 
+  void OnPing(const ClockProbe& ping);
+
   const Clock* clock_ = nullptr;
   Callbacks callbacks_;
+  timesync::ClockOffsetTable clock_offsets_;
+  std::mutex pong_mutex_;
+  std::map<std::string, ClockProbe> last_pong_;  // per client: the pong we sent last
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> left_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> right_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;

@@ -1,0 +1,80 @@
+// The simulated world seen through the robot's device interfaces, so that robot_server runs the
+// same code paths with the simulator as with hardware:
+//   SimStereoCamera  : camera::StereoCamera  (renders both eyes at the frame rate)
+//   SimDriveMotors   : drive::DriveMotors    (velocity commands in, encoder ticks out)
+//   SimulatedLms200  : the LMS200 emulator on a pseudo-terminal, fed by SimWorldRangeSource,
+//                      read by the real LMS200 driver (Lms200Scanner over libserial)
+// All share one SimWorld, which they advance to the current time of the injected clock.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "common/time/time.h"
+#include "robot_server/camera/stereo_camera.h"
+#include "robot_server/drive/drive_motors.h"
+#include "robot_server/laser/lms200_config.pb.h"
+#include "robot_server/laser/lms200_scanner.h"
+#include "robot_server/sim/lms200_emulator/lms200_emulator.h"
+#include "robot_server/sim/lms200_emulator/lms200_pty.h"
+#include "robot_server/sim/lms200_emulator/range_source.h"
+#include "robot_server/sim/sim_range_source.h"
+#include "robot_server/sim/sim_world.h"
+
+namespace mostar::sim {
+
+class SimStereoCamera final : public camera::StereoCamera {
+ public:
+  SimStereoCamera(SimWorld* world, double rate_hz, const Clock* clock);
+  bool Open(std::string* error) override;
+  camera::GrabResult Grab(Duration timeout, camera::StereoImagePair* pair) override;
+  void Close() override { open_ = false; }
+  bool IsOpen() const override { return open_; }
+  camera::StereoCameraInfo Info() const override;
+
+ private:
+  SimWorld* world_;
+  const double rate_hz_;
+  const Clock* clock_;
+  bool open_ = false;
+  uint64_t sequence_ = 0;
+  SteadyTime next_;
+};
+
+class SimDriveMotors final : public drive::DriveMotors {
+ public:
+  SimDriveMotors(SimWorld* world, const Clock* clock);
+  bool SetWheelVelocities(const drive::WheelVelocities& wheels, std::string* error) override;
+  bool SetVelocity(double linear_mps, double angular_radps, std::string* error) override;
+  bool Stop(std::string* error, bool clear_faults = false) override;
+  drive::MotorStatus Status() const override;
+  bool ReadEncoders(drive::EncoderReading* reading, std::string* error) override;
+  int counter_bits() const override;
+
+ private:
+  SimWorld* world_;
+  const Clock* clock_;
+};
+
+// The simulated LMS200 as the robot sees it: the emulator on a pseudo-terminal (symlinked at
+// `link_path`) and the real driver (Lms200Scanner over libserial) reading it.
+class SimulatedLms200 {
+ public:
+  // Null with a message when the pseudo-terminal cannot be created.
+  static std::unique_ptr<SimulatedLms200> Create(SimWorld* world, laser::Lms200Config config,
+                                                 const std::string& link_path,
+                                                 const Clock* clock, std::string* error);
+  ~SimulatedLms200();
+  laser::LaserScanner* scanner() { return scanner_.get(); }
+  Lms200Emulator* emulator() { return emulator_.get(); }
+  Lms200PtyRunner* pty() { return runner_.get(); }
+
+ private:
+  SimulatedLms200() = default;
+  std::unique_ptr<SimWorldRangeSource> ranges_;
+  std::unique_ptr<Lms200Emulator> emulator_;
+  std::unique_ptr<Lms200PtyRunner> runner_;
+  std::unique_ptr<laser::Lms200Scanner> scanner_;
+};
+
+}  // namespace mostar::sim
