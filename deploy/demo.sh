@@ -31,7 +31,7 @@ if [ -n "${DISPLAY:-}" ]; then
     --calibration deploy/config/calibration_sim.pbtxt
 else
   echo "demo: no display, running the client headless for ${DEMO_SECONDS}s (out/demo.png)"
-  xvfb-run -a -s "-screen 0 1920x1080x24" \
+  xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" \
     "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --headless \
     --display "$DISPLAY_MODE" --duration "$DEMO_SECONDS" --drive 0.15,0.05 \
     --calibration deploy/config/calibration_sim.pbtxt --screenshot out/demo.png

@@ -18,7 +18,7 @@ run_tests() {
 if [ -z "${DISPLAY:-}" ]; then
   export -f run_tests
   export BUILD_DIR JOBS
-  xvfb-run -a -s "-screen 0 1920x1080x24" bash -c 'run_tests "$@"' _ "$@"
+  xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" bash -c 'run_tests "$@"' _ "$@"
 else
   run_tests "$@"
 fi

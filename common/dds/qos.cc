@@ -32,7 +32,7 @@ struct Common {
 Common CommonOf(Stream stream) {
   switch (stream) {
     case Stream::kVideo:
-      return {fdds::BEST_EFFORT_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
+      return {fdds::RELIABLE_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
     case Stream::kSensor:
       return {fdds::BEST_EFFORT_RELIABILITY_QOS, 5, fdds::VOLATILE_DURABILITY_QOS};
     case Stream::kCommand:

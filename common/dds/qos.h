@@ -2,7 +2,7 @@
 //
 // | stream   | reliability | history     | durability      | other                                  |
 // |----------|-------------|-------------|-----------------|----------------------------------------|
-// | kVideo   | best effort | keep last 1 | volatile        | large samples; frames dropped, never queued |
+// | kVideo   | reliable    | keep last 1 | volatile        | heartbeat 50 ms; the publisher skips a frame while the previous one is unacknowledged (ack-clock), so video never offers more than the link carries; best-effort readers (ROS tools) match too |
 // | kSensor  | best effort | keep last 5 | volatile        | scans, odometry (ROS SensorDataQoS-compatible) |
 // | kCommand | reliable    | keep last 1 | volatile        | exclusive ownership, deadline 200 ms, manual-by-topic liveliness 500 ms |
 // | kState   | reliable    | keep last 1 | transient local | lease, health: late joiners get the latest |

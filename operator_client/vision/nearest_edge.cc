@@ -117,6 +117,7 @@ RayPixels TraceRayPixels(const math::CameraModel& camera, double azimuth_rad,
         pixel.walking_vertically = std::abs(dv) >= std::abs(du);
         pixel.enter_t_m = static_cast<float>(t);
         pixel.centre_t_m = static_cast<float>(t);
+        pixel.metres_per_px = static_cast<float>(1.0 / std::max(speed, 1e-9));
         ray.pixels.push_back(pixel);
       }
       last_col = col;
@@ -177,6 +178,7 @@ Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
       nep.distance_m = hit_t;
       nep.floor_point_laser = FloorPointLaser(ray.azimuth_rad, hit_t, laser_height_m);
       nep.pixel = Eigen::Vector2d(hit_col, hit_row);
+      nep.metres_per_px = p.metres_per_px;
       return nep;
     }
   }

@@ -55,6 +55,9 @@ struct Nep {
   // The edge pixel (integer pixel centre) in the image it was found in; for a fused stereo NEP,
   // the fused point projected into the right image.
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  // Floor distance covered by one pixel along the ray's image at the NEP, metres: the
+  // resolution of distance_m (grows roughly with the square of the distance).
+  double metres_per_px = 0.0;
   // NESC's verdict (thesis 9.2): false when seen by one eye only or when the eyes disagree; such
   // a NEP is used only when it agrees with the laser. NED on one image (thesis 8) sets true.
   bool reliable = true;
@@ -91,6 +94,7 @@ struct RayPixels {
     bool walking_vertically = true;  // the image of the ray is steeper than 45 degrees here
     float enter_t_m = 0.f;           // distance along the ray where the walk enters the pixel
     float centre_t_m = 0.f;          // middle of the ray's crossing of the pixel
+    float metres_per_px = 0.f;       // floor distance per pixel of the ray's image here
   };
   bool visible = false;
   double azimuth_rad = 0.0;

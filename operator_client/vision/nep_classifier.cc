@@ -1,5 +1,6 @@
 #include "operator_client/vision/nep_classifier.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -8,8 +9,15 @@
 namespace mostar::vision {
 
 bool NepClassifierOptions::IsValid(std::string* error) const {
-  if (std::isfinite(edge_threshold_m) && edge_threshold_m > 0.0 && edge_threshold_m <= 5.0) {
+  if (std::isfinite(edge_threshold_m) && edge_threshold_m > 0.0 && edge_threshold_m <= 5.0 &&
+      min_threshold_px >= 0.0 && min_threshold_px <= 20.0) {
     return true;
+  }
+  if (error != nullptr && !(min_threshold_px >= 0.0 && min_threshold_px <= 20.0)) {
+    std::ostringstream why;
+    why << "min_threshold_px must be in [0, 20] (got " << min_threshold_px << ")";
+    *error = why.str();
+    return false;
   }
   if (error != nullptr) {
     std::ostringstream why;
@@ -41,6 +49,13 @@ NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m, double 
   return difference_m < 0.0 ? NepRelation::kNearer : NepRelation::kFurther;
 }
 
+NepRelation RelateNepToLaser(const Nep& nep, float laser_range_m,
+                             const NepClassifierOptions& options) {
+  return RelateNepToLaser(
+      nep.distance_m, laser_range_m,
+      std::max(options.edge_threshold_m, options.min_threshold_px * nep.metres_per_px));
+}
+
 bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
                   const std::vector<bool>& potential_outliers, const NepClassifierOptions& options,
                   double laser_height_m, NepClassification* out, std::string* error) {
@@ -68,9 +83,7 @@ bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
     decision.potential_outlier = !potential_outliers.empty() && potential_outliers[i];
     const Nep& nep = neps[i];
     const float range_m = scan.ranges_m[i];
-    NepRelation relation = nep.found
-                               ? RelateNepToLaser(nep.distance_m, range_m, options.edge_threshold_m)
-                               : NepRelation::kNone;
+    NepRelation relation = nep.found ? RelateNepToLaser(nep, range_m, options) : NepRelation::kNone;
     if (relation != NepRelation::kNone && relation != NepRelation::kAgrees && !nep.reliable) {
       relation = NepRelation::kNone;  // thesis 9.2: unreliable NEPs never contradict the laser
       ++out->unreliable_ignored;

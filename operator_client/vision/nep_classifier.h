@@ -19,6 +19,10 @@ struct NepClassifierOptions {
   // edgeTh, metres: a NEP within this floor distance of its laser point is the same object;
   // in (0, 5]. The thesis found about 0.10 m to work well.
   double edge_threshold_m = 0.10;
+  // Far away one pixel spans more floor than edgeTh (at 5 m about 7 cm for the MORDUC
+  // cameras), so a NEP is also taken to agree when within this many pixels of its laser point
+  // (its Nep::metres_per_px). 0 = the thesis' rule alone; in [0, 20].
+  double min_threshold_px = 2.0;
 
   bool IsValid(std::string* error) const;
 };
@@ -74,5 +78,9 @@ bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
 
 // The relation of one NEP distance to one laser range (no reliability logic).
 NepRelation RelateNepToLaser(double nep_distance_m, float laser_range_m, double edge_threshold_m);
+// The same for a NEP, with the threshold max(edge_threshold_m, min_threshold_px *
+// nep.metres_per_px).
+NepRelation RelateNepToLaser(const Nep& nep, float laser_range_m,
+                             const NepClassifierOptions& options);
 
 }  // namespace mostar::vision

@@ -37,6 +37,8 @@ bool NescOptions::IsValid(std::string* error) const {
     why << "stereo_threshold_m must be in (0, 5] (got " << stereo_threshold_m << ")";
   } else if (!(offset_max_residual_px > 0.0 && offset_max_residual_px <= 100.0)) {
     why << "offset_max_residual_px must be in (0, 100] (got " << offset_max_residual_px << ")";
+  } else if (!(min_threshold_px >= 0.0 && min_threshold_px <= 20.0)) {
+    why << "min_threshold_px must be in [0, 20] (got " << min_threshold_px << ")";
   } else if (offset_min_samples < 1) {
     why << "offset_min_samples must be >= 1 (got " << offset_min_samples << ")";
   } else {
@@ -64,16 +66,14 @@ const char* StereoNepKindName(StereoNepKind kind) {
 
 bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& scan,
              const math::CameraModel& right_camera, const NescOptions& options,
-             double edge_threshold_m, NescResult* out, std::string* error) {
+             const NepClassifierOptions& classifier, NescResult* out, std::string* error) {
   assert(out != nullptr);
   const size_t n = scan.ranges_m.size();
   *out = NescResult{};
   out->kinds.assign(n, StereoNepKind::kNone);
   out->selected.assign(n, Nep{});
   if (!options.IsValid(error)) return false;
-  NepClassifierOptions classifier_options;
-  classifier_options.edge_threshold_m = edge_threshold_m;
-  if (!classifier_options.IsValid(error)) return false;
+  if (!classifier.IsValid(error)) return false;
   if (left.neps.size() != n || right.neps.size() != n) {
     if (error != nullptr) {
       std::ostringstream why;
@@ -98,7 +98,10 @@ bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& sca
       selected.reliable = false;
     } else {
       // Both on the same virtual ray: their floor distance is their 3D distance.
-      if (std::abs(l.distance_m - r.distance_m) < options.stereo_threshold_m) {
+      const double threshold_m =
+          std::max(options.stereo_threshold_m,
+                   options.min_threshold_px * 0.5 * (l.metres_per_px + r.metres_per_px));
+      if (std::abs(l.distance_m - r.distance_m) < threshold_m) {
         out->kinds[i] = StereoNepKind::kMatched;
         ++out->matched;
         selected = r;
@@ -109,10 +112,8 @@ bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& sca
         out->kinds[i] = StereoNepKind::kDisagree;
         ++out->disagree;
         const float range_m = scan.ranges_m[i];
-        const bool left_agrees =
-            RelateNepToLaser(l.distance_m, range_m, edge_threshold_m) == NepRelation::kAgrees;
-        const bool right_agrees =
-            RelateNepToLaser(r.distance_m, range_m, edge_threshold_m) == NepRelation::kAgrees;
+        const bool left_agrees = RelateNepToLaser(l, range_m, classifier) == NepRelation::kAgrees;
+        const bool right_agrees = RelateNepToLaser(r, range_m, classifier) == NepRelation::kAgrees;
         if (left_agrees || right_agrees) {
           ++out->disagree_resolved;
           const bool take_left = left_agrees && (!right_agrees || l.distance_m <= r.distance_m);

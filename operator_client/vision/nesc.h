@@ -22,12 +22,16 @@
 #include "common/math/camera_model.h"
 #include "common/types/laser_scan.h"
 #include "operator_client/vision/nearest_edge.h"
+#include "operator_client/vision/nep_classifier.h"
 
 namespace mostar::vision {
 
 struct NescOptions {
   // stereoTh, metres, in (0, 5]. The thesis used edgeTh / 2.
   double stereo_threshold_m = 0.05;
+  // As NepClassifierOptions::min_threshold_px: left and right NEPs within this many pixels
+  // (mean of their metres_per_px) also match; 0 = the thesis' rule alone; in [0, 20].
+  double min_threshold_px = 2.0;
   // Stereo offset hint: only beams whose left and right NEP rows differ by at most this many
   // pixels (after projecting the left NEP into the right image) take part; in (0, 100].
   double offset_max_residual_px = 15.0;
@@ -76,10 +80,10 @@ struct NescResult {
 
 // `left` and `right` are the NED results of the two images over `scan` (same beam count);
 // `right_camera` is the model the right one was computed with (selected pixels and the offset
-// hint are in the right image). `edge_threshold_m` is
-// edgeTh. Returns false with `error` on size mismatches or invalid options (out: no NEPs).
+// hint are in the right image). `classifier` gives edgeTh. Returns false with `error` on size
+// mismatches or invalid options (out: no NEPs).
 bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& scan,
              const math::CameraModel& right_camera, const NescOptions& options,
-             double edge_threshold_m, NescResult* out, std::string* error);
+             const NepClassifierOptions& classifier, NescResult* out, std::string* error);
 
 }  // namespace mostar::vision

@@ -8,7 +8,6 @@ namespace mostar::vision {
 namespace {
 
 constexpr double kLaserHeightM = 0.40;
-constexpr double kEdgeThresholdM = 0.10;
 
 struct Rig {
   math::CameraModel left{math::LaserCameraCalibration{}, math::Eye::kLeft};
@@ -44,7 +43,7 @@ NescResult RunNescOn(const NedResult& left, const NedResult& right, const LaserS
                      const Rig& rig, NescOptions options = NescOptions{}) {
   NescResult out;
   std::string error;
-  EXPECT_TRUE(RunNesc(left, right, scan, rig.right, options, kEdgeThresholdM, &out, &error))
+  EXPECT_TRUE(RunNesc(left, right, scan, rig.right, options, NepClassifierOptions{}, &out, &error))
       << error;
   return out;
 }
@@ -168,7 +167,7 @@ TEST(NescTest, RejectsMismatchedSizes) {
   NescResult out;
   std::string error;
   EXPECT_FALSE(RunNesc(Ned({Nep{}}), Ned({Nep{}, Nep{}}), scan, rig.right, NescOptions{},
-                       kEdgeThresholdM, &out, &error));
+                       NepClassifierOptions{}, &out, &error));
   EXPECT_NE(error.find("one NEP per beam"), std::string::npos) << error;
 }
 

@@ -1,6 +1,7 @@
 #include "operator_client/vision/sim_calibration.h"
 
 #include <cstdlib>
+#include <limits>
 
 #include "robot_server/sim/laser_raycast.h"
 #include "robot_server/sim/scene.h"
@@ -44,10 +45,19 @@ bool LoadSimScene(const std::string& name, sim::proto::Scene* scene, std::string
 }
 
 std::vector<float> TrueBaseDistances(const sim::SimWorld& world, const Pose2D& world_from_base) {
-  sim::LaserParams floor_level = world.laser_params();
-  floor_level.height_m = 0.01;
-  floor_level.pitch_rad = 0.0;
-  return sim::TrueRangesAt(world.world(), floor_level, world_from_base);
+  // Transparent obstacles (glass) count: the cameras see their bases even if the laser does not.
+  const sim::LaserParams& laser = world.laser_params();
+  std::vector<float> out(laser.BeamCount());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const double azimuth_rad =
+        world_from_base.theta_rad + laser.AngleMin() + static_cast<double>(i) * laser.increment_rad;
+    const sim::RayHit hit =
+        world.world().Trace(world_from_base.x_m, world_from_base.y_m, 0.01, azimuth_rad, 0.0, 100.0,
+                            /*skip_transparent=*/false);
+    out[i] = hit.kind == sim::RayHit::kObstacle ? static_cast<float>(hit.h_m)
+                                                : std::numeric_limits<float>::infinity();
+  }
+  return out;
 }
 
 }  // namespace mostar::vision

@@ -27,8 +27,9 @@ std::string SourceDir();
 // Loads deploy/scenes/<name>.pbtxt from SourceDir().
 bool LoadSimScene(const std::string& name, sim::proto::Scene* scene, std::string* error);
 
-// Floor distance from the robot base to the nearest obstacle footprint, per beam of the laser
-// described by `laser` (same beams as its scans): a raycast 1 cm above the floor. +Inf: none.
+// Floor distance from the robot base to the nearest obstacle footprint (glass included), per
+// beam of the simulated laser (same beams as its scans): a raycast 1 cm above the floor.
+// +Inf: none.
 std::vector<float> TrueBaseDistances(const sim::SimWorld& world, const Pose2D& world_from_base);
 
 }  // namespace mostar::vision

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -202,10 +203,19 @@ int Run(int argc, char** argv) {
         }
         for (size_t i = 0; i < beams; ++i) *found += hit[i] ? 1 : 0;
       };
+      if (std::getenv("VISION_DEBUG") != nullptr && frame == 0) {
+        for (const PossibleObstacle& dot : result.classification.possible_obstacles) {
+          const size_t i = static_cast<size_t>(dot.beam);
+          std::fprintf(stderr, "beam %zu nep %.2f base %.2f truth %.2f scan %.2f pos %d\n", i,
+                       dot.distance_m, base_m[i], laser_truth.true_ranges_m[i],
+                       input.scan.ranges_m[i], static_cast<int>(positive[i]));
+        }
+      }
       score(mono, &c.mono_dots, &c.mono_true, &c.mono_found);
       score(result.classification, &c.stereo_dots, &c.stereo_true, &c.stereo_found);
 
-      // Stray NEPs: more than 2 px from any obstacle base line in their own image.
+      // Stray NEPs: more than 6 px from any obstacle base line in their own image (contact
+      // shadows put true NEPs up to a few pixels below the base).
       const cv::Mat left_distance = DistanceToBaseLines(images.left_truth.labels);
       const cv::Mat right_distance = DistanceToBaseLines(images.right_truth.labels);
       for (const auto& [ned, distance] :
@@ -214,7 +224,7 @@ int Run(int argc, char** argv) {
           const Nep& nep = ned->neps[i];
           if (!nep.found) continue;
           const bool stray = distance->at<float>(static_cast<int>(nep.pixel.y()),
-                                                 static_cast<int>(nep.pixel.x())) > 2.0f;
+                                                 static_cast<int>(nep.pixel.x())) > 6.0f;
           const Nep& used = result.selected[i];
           const bool survived =
               result.classification.beams[i].relation != NepRelation::kNone && used.found &&

@@ -37,6 +37,7 @@ proto::VisionConfig ToProto(const VisionOptions& options) {
   config.set_stereo_threshold_m(options.nesc.stereo_threshold_m);
   config.set_stereo(options.stereo);
   config.set_keep_edge_images(options.keep_edge_images);
+  config.set_min_threshold_px(options.classifier.min_threshold_px);
   return config;
 }
 
@@ -60,6 +61,8 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
                                         : 0.5 * config.edge_threshold_m();
   options.stereo = config.stereo();
   options.keep_edge_images = config.keep_edge_images();
+  options.classifier.min_threshold_px = config.min_threshold_px();
+  options.nesc.min_threshold_px = config.min_threshold_px();
   return options;
 }
 
@@ -137,7 +140,7 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) {
       return finish(false, error);
     }
     if (!RunNesc(out->left_ned, out->right_ned, input.scan, *input.right_camera, options_.nesc,
-                 options_.classifier.edge_threshold_m, &out->nesc, &error)) {
+                 options_.classifier, &out->nesc, &error)) {
       return finish(false, "nesc: " + error);
     }
     out->selected = out->nesc.selected;

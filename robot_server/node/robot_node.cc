@@ -100,6 +100,10 @@ std::optional<Duration> RobotNode::RobotMinusClient(const std::string& client_id
 }
 
 bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
+  // Ack-clock: while a reliable reader has not acknowledged the previous pair, the link is
+  // full; skip this pair at the source rather than queue it (the bitrate control then lowers
+  // the JPEG quality).
+  if (!left_->AllAcknowledged() || !right_->AllAcknowledged()) return false;
   const bool left_ok = left_->Write(dds::ToIdl(pair.left));
   const bool right_ok = right_->Write(dds::ToIdl(pair.right));
   return left_ok && right_ok;

@@ -39,7 +39,8 @@ class RobotNode {
   static std::unique_ptr<RobotNode> Create(dds::Participant* participant, Callbacks callbacks,
                                            const Clock* clock, std::string* error);
 
-  // Both eyes; false when the pair was not sent (counted as skipped at the source).
+  // Both eyes; false when the pair was not sent: skipped at the source because readers have not
+  // acknowledged the previous one yet (ack-clock), or refused by DDS.
   bool PublishStereo(const CompressedStereoPair& pair);
   void PublishScan(const LaserScan& scan);
   void PublishOdometry(const Odometry& odometry);

@@ -1,0 +1,205 @@
+// Real OpenGL (Mesa llvmpipe under Xvfb in CI): the overlay lands where the camera model says,
+// and the stereo display modes put each eye where it belongs. Skipped without an X display.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/math/camera_model.h"
+#include "operator_client/render/eye_renderer.h"
+#include "operator_client/render/gl.h"
+#include "operator_client/render/screenshot.h"
+#include "operator_client/render/stereo_compositor.h"
+#include "operator_client/ui/window.h"
+
+namespace mostar::render {
+namespace {
+
+class RenderTest : public ::testing::Test {
+ protected:
+  // One window (and X connection) for the whole suite: an X server may reset when its last
+  // client disconnects, which would make the next connection fail.
+  static void SetUpTestSuite() {
+    if (std::getenv("DISPLAY") == nullptr) return;
+    ui::WindowOptions options;
+    options.width = 640;
+    options.height = 480;
+    options.visible = false;
+    window_ = ui::Window::Create(options, &window_error_).release();
+  }
+  static void TearDownTestSuite() {
+    delete window_;
+    window_ = nullptr;
+  }
+
+  void SetUp() override {
+    if (std::getenv("DISPLAY") == nullptr) {
+      GTEST_SKIP() << "no X display: run under xvfb-run (as deploy/test.sh does)";
+    }
+    ASSERT_NE(window_, nullptr) << window_error_;
+    std::string error;
+    ASSERT_TRUE(eyes_[0].Init(&error)) << error;
+    ASSERT_TRUE(eyes_[1].Init(&error)) << error;
+    ASSERT_TRUE(compositor_.Init(&error)) << error;
+  }
+
+  // The eye framebuffer as BGR8, row 0 at the top.
+  static cv::Mat ReadEye(const EyeRenderer& eye) {
+    cv::Mat rgba(eye.height(), eye.width(), CV_8UC4);
+    glBindTexture(GL_TEXTURE_2D, eye.texture());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_BGRA, GL_UNSIGNED_BYTE, rgba.data);
+    cv::Mat bgr;
+    cv::cvtColor(rgba, bgr, cv::COLOR_BGRA2BGR);
+    cv::flip(bgr, bgr, 0);
+    return bgr;
+  }
+
+  void RenderPlainEyes(const cv::Scalar& left_bgr, const cv::Scalar& right_bgr) {
+    const math::CameraModel model(math::LaserCameraCalibration{}, math::Eye::kLeft);
+    const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
+    eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, left_bgr), m.projection, m.view, {}, {});
+    eyes_[1].Render(cv::Mat(480, 640, CV_8UC3, right_bgr), m.projection, m.view, {}, {});
+  }
+
+  cv::Mat Compose(DisplayMode mode) {
+    compositor_.Compose(mode, eyes_[0].texture(), eyes_[1].texture(), 640, 480, false);
+    return ReadFramebuffer(640, 480);
+  }
+
+  static ui::Window* window_;
+  static std::string window_error_;
+  EyeRenderer eyes_[2];
+  StereoCompositor compositor_;
+};
+
+ui::Window* RenderTest::window_ = nullptr;
+std::string RenderTest::window_error_;
+
+TEST_F(RenderTest, WallBaseLandsOnTheProjectedImageRow) {
+  const math::LaserCameraCalibration calibration;
+  const math::CameraModel model(calibration, math::Eye::kLeft);
+  const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
+  const float floor_z = static_cast<float>(-calibration.laser_height_m);
+  for (const float distance_m : {1.5f, 2.5f, 4.0f}) {
+    OverlayGeometry overlay;
+    const fusion::Rgba red{1, 0, 0, 1};
+    // A wall across the view at `distance_m`, from the floor up 0.3 m.
+    const float y0 = -1.f, y1 = 1.f, z0 = floor_z, z1 = floor_z + 0.3f;
+    for (const auto& v : {std::array<float, 3>{distance_m, y0, z0}, {distance_m, y1, z0},
+                          {distance_m, y1, z1}, {distance_m, y0, z0}, {distance_m, y1, z1},
+                          {distance_m, y0, z1}}) {
+      overlay.triangles.Add(v[0], v[1], v[2], red);
+    }
+    eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, cv::Scalar(128, 128, 128)), m.projection, m.view,
+                    overlay, {});
+    const cv::Mat image = ReadEye(eyes_[0]);
+    const auto base = model.ProjectUndistorted(Eigen::Vector3d(distance_m, 0, z0));
+    ASSERT_TRUE(base.has_value());
+    const int column = static_cast<int>(std::lround((*base)(0)));
+    int lowest_red = -1;
+    for (int row = 0; row < image.rows; ++row) {
+      const cv::Vec3b p = image.at<cv::Vec3b>(row, column);
+      if (p[2] > 200 && p[1] < 60) lowest_red = row;
+    }
+    ASSERT_GE(lowest_red, 0) << "wall not drawn at " << distance_m << " m";
+    EXPECT_NEAR(lowest_red, (*base)(1), 1.5) << "wall at " << distance_m << " m";
+  }
+}
+
+TEST_F(RenderTest, ImageIsShownUprightAndUnshifted) {
+  cv::Mat image(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  image.rowRange(0, 100).setTo(cv::Scalar(255, 255, 255));  // white band at the top
+  const math::CameraModel model(math::LaserCameraCalibration{}, math::Eye::kLeft);
+  const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
+  eyes_[0].Render(image, m.projection, m.view, {}, {});
+  const cv::Mat out = ReadEye(eyes_[0]);
+  EXPECT_GT(out.at<cv::Vec3b>(50, 320)[0], 200);
+  EXPECT_LT(out.at<cv::Vec3b>(300, 320)[0], 50);
+}
+
+TEST_F(RenderTest, ColourAnaglyphTakesRedFromLeftAndCyanFromRight) {
+  RenderPlainEyes(cv::Scalar(255, 255, 255), cv::Scalar(0, 0, 0));  // left white, right black
+  cv::Mat out = Compose(DisplayMode::kAnaglyphColor);
+  cv::Vec3b p = out.at<cv::Vec3b>(240, 320);  // BGR
+  EXPECT_GT(p[2], 240);
+  EXPECT_LT(p[1], 15);
+  EXPECT_LT(p[0], 15);
+  RenderPlainEyes(cv::Scalar(0, 0, 0), cv::Scalar(255, 255, 255));  // left black, right white
+  out = Compose(DisplayMode::kAnaglyphColor);
+  p = out.at<cv::Vec3b>(240, 320);
+  EXPECT_LT(p[2], 15);
+  EXPECT_GT(p[1], 240);
+  EXPECT_GT(p[0], 240);
+}
+
+TEST_F(RenderTest, GreyAnaglyphUsesLuminanceOfEachEye) {
+  RenderPlainEyes(cv::Scalar(0, 255, 0), cv::Scalar(0, 0, 0));  // left pure green
+  const cv::Vec3b p = Compose(DisplayMode::kAnaglyphGrey).at<cv::Vec3b>(240, 320);
+  EXPECT_NEAR(p[2], 0.587 * 255, 3);  // red channel = luma of the left eye
+  EXPECT_LT(p[1], 5);
+}
+
+TEST_F(RenderTest, SideBySideAndTopBottomPlaceEachEye) {
+  RenderPlainEyes(cv::Scalar(255, 255, 255), cv::Scalar(0, 0, 0));
+  cv::Mat out = Compose(DisplayMode::kSideBySideHalf);
+  EXPECT_GT(out.at<cv::Vec3b>(240, 100)[0], 240);
+  EXPECT_LT(out.at<cv::Vec3b>(240, 540)[0], 15);
+  out = Compose(DisplayMode::kTopBottom);
+  EXPECT_GT(out.at<cv::Vec3b>(100, 320)[0], 240);
+  EXPECT_LT(out.at<cv::Vec3b>(380, 320)[0], 15);
+  out = Compose(DisplayMode::kMonoRight);
+  EXPECT_LT(out.at<cv::Vec3b>(240, 320)[0], 15);
+}
+
+TEST_F(RenderTest, RowInterlacedAlternatesEyes) {
+  RenderPlainEyes(cv::Scalar(255, 255, 255), cv::Scalar(0, 0, 0));
+  const cv::Mat out = Compose(DisplayMode::kRowInterlaced);
+  for (int row = 200; row < 210; ++row) {
+    const uint8_t v = out.at<cv::Vec3b>(row, 320)[0];
+    if (row % 2 == 0) {
+      EXPECT_GT(v, 240) << row;
+    } else {
+      EXPECT_LT(v, 15) << row;
+    }
+  }
+}
+
+TEST_F(RenderTest, QuadBufferFallsBackToLeftEyeWithoutStereoContext) {
+  RenderPlainEyes(cv::Scalar(255, 255, 255), cv::Scalar(0, 0, 0));
+  ASSERT_FALSE(window_->quad_buffer());
+  const cv::Mat out = Compose(DisplayMode::kQuadBuffer);
+  EXPECT_GT(out.at<cv::Vec3b>(240, 320)[0], 240);
+}
+
+TEST_F(RenderTest, AlignmentShiftsAndCrops) {
+  cv::Mat image(480, 640, CV_8UC3, cv::Scalar(255, 255, 255));
+  const math::CameraModel model(math::LaserCameraCalibration{}, math::Eye::kLeft);
+  const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
+  EyeAlignment alignment;
+  alignment.offset_x_px = 20;
+  alignment.crop_left_px = 20;
+  eyes_[0].Render(image, m.projection, m.view, {}, alignment);
+  const cv::Mat out = ReadEye(eyes_[0]);
+  EXPECT_LT(out.at<cv::Vec3b>(240, 10)[0], 15);   // cropped
+  EXPECT_GT(out.at<cv::Vec3b>(240, 30)[0], 240);  // shifted image
+}
+
+TEST(DisplayModeTest, NamesRoundTrip) {
+  for (const char* name : {"mono-left", "mono-right", "anaglyph", "anaglyph-color", "sbs",
+                           "sbs-half", "top-bottom", "interlaced", "quad-buffer"}) {
+    DisplayMode mode;
+    ASSERT_TRUE(ParseDisplayMode(name, &mode)) << name;
+    EXPECT_STREQ(DisplayModeName(mode), name);
+  }
+  DisplayMode mode;
+  EXPECT_FALSE(ParseDisplayMode("hologram", &mode));
+  int w = 0, h = 0;
+  WindowSizeFor(DisplayMode::kSideBySideFull, 640, 480, &w, &h);
+  EXPECT_EQ(w, 1280);
+  EXPECT_EQ(h, 480);
+}
+
+}  // namespace
+}  // namespace mostar::render

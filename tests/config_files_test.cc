@@ -1,0 +1,106 @@
+// Every configuration file shipped in deploy/ loads and validates with its schema. A new file
+// must be registered here (an unknown file fails the test), so no shipped file goes untested.
+#include <dirent.h>
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/config/config_loader.h"
+#include "common/math/calibration_io.h"
+#include "robot_server/camera/camera_config.pb.h"
+#include "robot_server/camera/camera_factory.h"
+#include "robot_server/drive/drive_config.h"
+#include "robot_server/drive/drive_config.pb.h"
+#include "robot_server/laser/lms200_config.pb.h"
+#include "robot_server/server_config.pb.h"
+#include "robot_server/sim/scene.h"
+#include "robot_server/sim/sim_world.h"
+
+namespace mostar {
+namespace {
+
+std::vector<std::string> ListDir(const std::string& dir, const std::string& suffix) {
+  std::vector<std::string> names;
+  if (DIR* d = opendir(dir.c_str())) {
+    while (dirent* e = readdir(d)) {
+      const std::string name = e->d_name;
+      if (name.size() > suffix.size() &&
+          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        names.push_back(name);
+      }
+    }
+    closedir(d);
+  }
+  return names;
+}
+
+bool StartsWith(const std::string& s, const std::string& prefix) {
+  return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+// Loads `path` as the schema its name announces; false with the error.
+bool LoadShippedConfig(const std::string& name, const std::string& path, std::string* error) {
+  if (StartsWith(name, "server_")) {
+    server::ServerConfig c;
+    if (!LoadTextConfig(path, &c, error)) return false;
+    drive::DriveSettings settings;
+    if (!drive::DriveSettingsFromProto(c.drive(), &settings, error)) return false;
+    return sim::ValidateSimConfig(c.sim(), path, error);
+  }
+  if (StartsWith(name, "calibration_")) {
+    math::LaserCameraCalibration c;
+    return math::LoadCalibrationProfile(path, &c, error);
+  }
+  if (StartsWith(name, "camera_")) {
+    camera::CameraConfig c;
+    return LoadTextConfig(path, &c, error) && camera::ValidateCameraConfig(c, error);
+  }
+  if (StartsWith(name, "drive_")) {
+    drive::DriveConfig c;
+    drive::DriveSettings settings;
+    return LoadTextConfig(path, &c, error) && drive::DriveSettingsFromProto(c, &settings, error);
+  }
+  if (StartsWith(name, "sim_")) {
+    sim::proto::SimConfig c;
+    return sim::LoadSimConfig(path, &c, error);
+  }
+  if (StartsWith(name, "lms200_")) {
+    laser::Lms200Config c;
+    return LoadTextConfig(path, &c, error);
+  }
+  *error = name + ": no schema registered for this file name (tests/config_files_test.cc)";
+  return false;
+}
+
+TEST(ShippedConfigTest, EveryConfigFileLoads) {
+  const std::string dir = std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/config";
+  const auto names = ListDir(dir, ".pbtxt");
+  ASSERT_GE(names.size(), 5u) << "no configuration files found in " << dir;
+  for (const std::string& name : names) {
+    std::string error;
+    EXPECT_TRUE(LoadShippedConfig(name, dir + "/" + name, &error)) << error;
+  }
+}
+
+TEST(ShippedConfigTest, EverySceneLoads) {
+  const std::string dir = std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/scenes";
+  const auto names = ListDir(dir, ".pbtxt");
+  ASSERT_GE(names.size(), 3u);
+  for (const std::string& name : names) {
+    sim::proto::Scene scene;
+    std::string error;
+    EXPECT_TRUE(sim::LoadScene(dir + "/" + name, &scene, &error)) << error;
+  }
+}
+
+TEST(ShippedConfigTest, UnknownFileNamesAreRefused) {
+  std::string error;
+  EXPECT_FALSE(LoadShippedConfig("mystery.pbtxt", "/dev/null", &error));
+  EXPECT_NE(error.find("no schema"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mostar

@@ -1,0 +1,160 @@
+// Loads every shipped DDS XML profile file (deploy/dds/) the way common/dds/participant.cc does
+// and checks that each participant profile the programs select by role exists and carries the
+// transport and discovery settings docs/networking.md promises.
+#include <gtest/gtest.h>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/transport/TCPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mostar::network {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace frtps = eprosima::fastrtps;
+using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
+using eprosima::fastdds::rtps::TCPv4TransportDescriptor;
+using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
+
+std::string Profile(const std::string& file) {
+  return std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/dds/" + file;
+}
+
+fdds::DomainParticipantQos Load(const std::string& file, const std::string& profile) {
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  EXPECT_EQ(factory->load_XML_profiles_file(Profile(file)), ReturnCode_t::RETCODE_OK) << file;
+  fdds::DomainParticipantQos qos;
+  EXPECT_EQ(factory->get_participant_qos_from_profile(profile, qos), ReturnCode_t::RETCODE_OK)
+      << file << ": " << profile;
+  return qos;
+}
+
+template <class Descriptor>
+std::vector<std::shared_ptr<Descriptor>> Transports(const fdds::DomainParticipantQos& qos) {
+  std::vector<std::shared_ptr<Descriptor>> found;
+  for (const auto& t : qos.transport().user_transports) {
+    if (auto d = std::dynamic_pointer_cast<Descriptor>(t)) found.push_back(d);
+  }
+  return found;
+}
+
+double Seconds(const frtps::Duration_t& d) { return d.seconds + d.nanosec * 1e-9; }
+
+// Fast DDS keeps loaded profiles in one process-wide registry and refuses a second profile of
+// the same name, so the shipped files (which all define "robot" and "operator") cannot be
+// loaded into one process. Each check therefore runs in a child process of its own; loading the
+// same file twice in one process is fine (mostar_relay creates two participants from one file).
+#define IN_OWN_PROCESS(body)                                                      \
+  EXPECT_EXIT(                                                                    \
+      {                                                                           \
+        body;                                                                     \
+        std::exit(::testing::Test::HasFailure() ? 1 : 0);                        \
+      },                                                                          \
+      ::testing::ExitedWithCode(0), "")
+
+class DdsProfilesTest : public ::testing::Test {
+ protected:
+  void SetUp() override { GTEST_FLAG_SET(death_test_style, "threadsafe"); }
+};
+
+void CheckLan();
+void CheckWan();
+void CheckWanViaRelay();
+void CheckDiscoveryServer();
+void CheckUnknownProfile();
+
+TEST_F(DdsProfilesTest, LanProfilesUseUdpAndLargeSharedMemory) { IN_OWN_PROCESS(CheckLan()); }
+TEST_F(DdsProfilesTest, WanRobotIsTcpServerAndOperatorsDialIt) { IN_OWN_PROCESS(CheckWan()); }
+TEST_F(DdsProfilesTest, WanViaRelayOperatorDialsTheRelay) { IN_OWN_PROCESS(CheckWanViaRelay()); }
+TEST_F(DdsProfilesTest, DiscoveryServerProfilesAreClientsOfServerZero) {
+  IN_OWN_PROCESS(CheckDiscoveryServer());
+}
+TEST_F(DdsProfilesTest, UnknownProfileNameIsRefused) { IN_OWN_PROCESS(CheckUnknownProfile()); }
+
+void CheckLan() {
+  for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
+    const auto qos = Load("lan.xml", name);
+    EXPECT_FALSE(qos.transport().use_builtin_transports) << name;
+    ASSERT_EQ(Transports<UDPv4TransportDescriptor>(qos).size(), 1u) << name;
+    EXPECT_EQ(Transports<UDPv4TransportDescriptor>(qos)[0]->receiveBufferSize, 4u << 20);
+    const auto shm = Transports<SharedMemTransportDescriptor>(qos);
+    ASSERT_EQ(shm.size(), 1u) << name;
+    EXPECT_EQ(shm[0]->segment_size(), 8u << 20) << name;
+    EXPECT_EQ(qos.wire_protocol().builtin.discovery_config.discoveryProtocol,
+              frtps::rtps::DiscoveryProtocol_t::SIMPLE);
+    EXPECT_DOUBLE_EQ(
+        Seconds(qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod),
+        1.0);
+  }
+}
+
+void CheckWan() {
+  const auto robot = Load("wan.xml", "robot");
+  ASSERT_EQ(robot.transport().user_transports.size(), 1u);
+  const auto server = Transports<TCPv4TransportDescriptor>(robot);
+  ASSERT_EQ(server.size(), 1u);
+  ASSERT_EQ(server[0]->listening_ports.size(), 1u);
+  EXPECT_EQ(server[0]->listening_ports[0], 15100);
+  EXPECT_EQ(server[0]->get_WAN_address(), "203.0.113.10");
+  EXPECT_TRUE(server[0]->enable_tcp_nodelay);
+  EXPECT_DOUBLE_EQ(
+      Seconds(robot.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod),
+      1.0);
+
+  for (const char* name : {"operator", "relay"}) {
+    const auto client = Load("wan.xml", name);
+    const auto tcp = Transports<TCPv4TransportDescriptor>(client);
+    ASSERT_EQ(tcp.size(), 1u) << name;
+    EXPECT_TRUE(tcp[0]->listening_ports.empty()) << name << " must not need a listening port";
+    const auto& peers = client.wire_protocol().builtin.initialPeersList;
+    ASSERT_EQ(peers.size(), 1u) << name;
+    EXPECT_EQ(peers.begin()->kind, LOCATOR_KIND_TCPv4);
+    EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "203.0.113.10");
+    EXPECT_EQ(frtps::rtps::IPLocator::getPhysicalPort(*peers.begin()), 15100);
+  }
+
+  const auto relay_server = Transports<TCPv4TransportDescriptor>(Load("wan.xml", "relay_observers"));
+  ASSERT_EQ(relay_server.size(), 1u);
+  ASSERT_EQ(relay_server[0]->listening_ports.size(), 1u);
+  EXPECT_EQ(relay_server[0]->listening_ports[0], 15101);
+}
+
+void CheckWanViaRelay() {
+  const auto qos = Load("wan_via_relay.xml", "operator");
+  const auto& peers = qos.wire_protocol().builtin.initialPeersList;
+  ASSERT_EQ(peers.size(), 1u);
+  EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "198.51.100.20");
+  EXPECT_EQ(frtps::rtps::IPLocator::getPhysicalPort(*peers.begin()), 15101);
+}
+
+void CheckDiscoveryServer() {
+  for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
+    const auto qos = Load("discovery_server.xml", name);
+    const auto& discovery = qos.wire_protocol().builtin.discovery_config;
+    EXPECT_EQ(discovery.discoveryProtocol, frtps::rtps::DiscoveryProtocol_t::CLIENT) << name;
+    ASSERT_EQ(discovery.m_DiscoveryServers.size(), 1u) << name;
+    const auto& server = discovery.m_DiscoveryServers.front();
+    EXPECT_EQ(server.guidPrefix.value[0], 0x44) << name;
+    ASSERT_FALSE(server.metatrafficUnicastLocatorList.empty());
+    const auto& locator = *server.metatrafficUnicastLocatorList.begin();
+    EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(locator), "192.0.2.10");
+    EXPECT_EQ(locator.port, 11811u);
+  }
+}
+
+void CheckUnknownProfile() {
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  ASSERT_EQ(factory->load_XML_profiles_file(Profile("lan.xml")), ReturnCode_t::RETCODE_OK);
+  fdds::DomainParticipantQos qos;
+  EXPECT_NE(factory->get_participant_qos_from_profile("no_such_role", qos),
+            ReturnCode_t::RETCODE_OK);
+}
+
+}  // namespace
+}  // namespace mostar::network

@@ -1,0 +1,232 @@
+// netem_relay: a userspace stand-in for `tc netem` (not available in every kernel) for network
+// tests. It joins two network namespaces with a point-to-point IP link made of two TUN devices,
+// one in each namespace, and forwards every IP packet between them through a model of a WAN
+// path, per direction:
+//   1. random loss (probability --loss, independent per packet);
+//   2. a bottleneck of --rate-kbit kbit/s with a tail-drop queue of at most --queue-ms of
+//      serialisation time (like tbf's `latency`);
+//   3. one-way delay --delay-ms plus uniform jitter in [-jitter-ms, +jitter-ms], never
+//      reordering packets.
+// SIGUSR1 toggles an outage (every packet dropped both ways) for link-loss experiments;
+// `ip link set DEV down` inside a namespace works as well. The program stops after
+// --duration-s seconds or on SIGINT/SIGTERM; the TUN devices disappear with it.
+//
+// Needs root (CAP_NET_ADMIN) and namespaces created with `ip netns add` (tests/network/netns.sh).
+// Addresses are private test addresses that exist only inside the two namespaces.
+#include <fcntl.h>
+#include <linux/if.h>
+#include <linux/if_tun.h>
+#include <poll.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <iostream>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace mostar::network {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::atomic<bool> g_stop{false};
+std::atomic<bool> g_outage{false};
+
+void OnStop(int) { g_stop = true; }
+void OnToggleOutage(int) { g_outage = !g_outage.load(); }
+
+struct PathModel {
+  double delay_ms = 0;
+  double jitter_ms = 0;
+  double loss = 0;         // probability in [0, 1]
+  double rate_kbit = 0;    // 0 = unlimited
+  double queue_ms = 200;   // bottleneck queue, in serialisation time
+};
+
+struct Counters {
+  std::atomic<uint64_t> forwarded{0};
+  std::atomic<uint64_t> lost{0};
+  std::atomic<uint64_t> queue_drops{0};
+  std::atomic<uint64_t> outage_drops{0};
+};
+
+// Creates TUN device `name` inside namespace `netns` (entered by this thread for the call).
+int OpenTunIn(const std::string& netns, const std::string& name, std::string* error) {
+  const int self = open("/proc/self/ns/net", O_RDONLY | O_CLOEXEC);
+  const int target = open(("/var/run/netns/" + netns).c_str(), O_RDONLY | O_CLOEXEC);
+  if (self < 0 || target < 0 || setns(target, CLONE_NEWNET) != 0) {
+    *error = "cannot enter network namespace " + netns + ": " + std::strerror(errno);
+    if (self >= 0) close(self);
+    if (target >= 0) close(target);
+    return -1;
+  }
+  int fd = open("/dev/net/tun", O_RDWR | O_CLOEXEC);
+  if (fd >= 0) {
+    ifreq ifr{};
+    ifr.ifr_flags = IFF_TUN | IFF_NO_PI;
+    std::strncpy(ifr.ifr_name, name.c_str(), IFNAMSIZ - 1);
+    if (ioctl(fd, TUNSETIFF, &ifr) != 0) {
+      *error = "TUNSETIFF " + name + ": " + std::strerror(errno);
+      close(fd);
+      fd = -1;
+    }
+  } else {
+    *error = std::string("/dev/net/tun: ") + std::strerror(errno);
+  }
+  setns(self, CLONE_NEWNET);
+  close(self);
+  close(target);
+  return fd;
+}
+
+bool Run(const std::string& command) {
+  const int rc = std::system(command.c_str());
+  if (rc != 0) std::cerr << "netem_relay: failed: " << command << "\n";
+  return rc == 0;
+}
+
+// Forwards packets read from `in` to `out` through `model`. One thread per direction.
+void Forward(int in, int out, PathModel model, uint64_t seed, Counters* counters) {
+  struct Pending {
+    Clock::time_point deliver_at;
+    std::vector<uint8_t> packet;
+  };
+  std::deque<Pending> pending;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  Clock::time_point link_free_at = Clock::now();
+  Clock::time_point last_delivery = Clock::now();
+  std::vector<uint8_t> buffer(65536);
+  while (!g_stop) {
+    const Clock::time_point now = Clock::now();
+    while (!pending.empty() && pending.front().deliver_at <= now) {
+      if (write(out, pending.front().packet.data(), pending.front().packet.size()) > 0) {
+        ++counters->forwarded;
+      }
+      pending.pop_front();
+    }
+    int timeout_ms = 50;
+    if (!pending.empty()) {
+      const auto wait = std::chrono::duration_cast<std::chrono::microseconds>(
+          pending.front().deliver_at - now);
+      timeout_ms = static_cast<int>(std::clamp<int64_t>((wait.count() + 999) / 1000, 0, 50));
+    }
+    pollfd p{in, POLLIN, 0};
+    if (poll(&p, 1, timeout_ms) <= 0 || (p.revents & POLLIN) == 0) continue;
+    const ssize_t n = read(in, buffer.data(), buffer.size());
+    if (n <= 0) continue;
+    if (g_outage) {
+      ++counters->outage_drops;
+      continue;
+    }
+    if (model.loss > 0 && uniform(rng) < model.loss) {
+      ++counters->lost;
+      continue;
+    }
+    const Clock::time_point arrival = Clock::now();
+    Clock::time_point sent_at = arrival;
+    if (model.rate_kbit > 0) {
+      const auto serialisation = std::chrono::microseconds(
+          static_cast<int64_t>(static_cast<double>(n) * 8.0 * 1000.0 / model.rate_kbit));
+      const Clock::time_point start = std::max(arrival, link_free_at);
+      if (start - arrival > std::chrono::microseconds(static_cast<int64_t>(model.queue_ms * 1000))) {
+        ++counters->queue_drops;
+        continue;
+      }
+      sent_at = start + serialisation;
+      link_free_at = sent_at;
+    }
+    double delay_ms = model.delay_ms;
+    if (model.jitter_ms > 0) delay_ms += (2.0 * uniform(rng) - 1.0) * model.jitter_ms;
+    Clock::time_point deliver_at =
+        sent_at + std::chrono::microseconds(static_cast<int64_t>(std::max(0.0, delay_ms) * 1000));
+    deliver_at = std::max(deliver_at, last_delivery);  // a single path never reorders
+    last_delivery = deliver_at;
+    pending.push_back({deliver_at, std::vector<uint8_t>(buffer.begin(), buffer.begin() + n)});
+  }
+}
+
+int Main(int argc, char** argv) {
+  CLI::App app("netem_relay: WAN path emulation between two network namespaces over TUN");
+  std::string netns_a, netns_b, dev_a = "wan0", dev_b = "wan0";
+  std::string addr_a = "10.232.0.1", addr_b = "10.232.0.2";
+  PathModel model;
+  double duration_s = 60;
+  uint64_t seed = 1;
+  app.add_option("--netns-a", netns_a, "first namespace (e.g. the robot's)")->required();
+  app.add_option("--netns-b", netns_b, "second namespace (e.g. the operator's)")->required();
+  app.add_option("--dev-a", dev_a, "TUN device name in the first namespace");
+  app.add_option("--dev-b", dev_b, "TUN device name in the second namespace");
+  app.add_option("--addr-a", addr_a, "address of the first end (private test address)");
+  app.add_option("--addr-b", addr_b, "address of the second end (private test address)");
+  app.add_option("--delay-ms", model.delay_ms, "one-way delay, each direction")
+      ->check(CLI::Range(0.0, 5000.0));
+  app.add_option("--jitter-ms", model.jitter_ms, "uniform jitter around the delay")
+      ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--loss", model.loss, "packet loss probability, each direction")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--rate-kbit", model.rate_kbit, "bottleneck rate in kbit/s (0 = unlimited)")
+      ->check(CLI::Range(0.0, 10e6));
+  app.add_option("--queue-ms", model.queue_ms, "bottleneck queue length in ms of sending time")
+      ->check(CLI::Range(1.0, 10000.0));
+  app.add_option("--duration-s", duration_s, "stop after this many seconds")
+      ->check(CLI::Range(1.0, 3600.0));
+  app.add_option("--seed", seed, "random seed");
+  CLI11_PARSE(app, argc, argv);
+
+  std::string error;
+  const int fd_a = OpenTunIn(netns_a, dev_a, &error);
+  const int fd_b = fd_a < 0 ? -1 : OpenTunIn(netns_b, dev_b, &error);
+  if (fd_a < 0 || fd_b < 0) {
+    std::cerr << "netem_relay: " << error << "\n";
+    return 1;
+  }
+  if (!Run("ip -n " + netns_a + " addr add " + addr_a + "/32 peer " + addr_b + " dev " + dev_a) ||
+      !Run("ip -n " + netns_a + " link set " + dev_a + " up") ||
+      !Run("ip -n " + netns_b + " addr add " + addr_b + "/32 peer " + addr_a + " dev " + dev_b) ||
+      !Run("ip -n " + netns_b + " link set " + dev_b + " up")) {
+    return 1;
+  }
+  signal(SIGINT, OnStop);
+  signal(SIGTERM, OnStop);
+  signal(SIGUSR1, OnToggleOutage);
+  Counters a_to_b, b_to_a;
+  std::thread forward(Forward, fd_a, fd_b, model, seed, &a_to_b);
+  std::thread backward(Forward, fd_b, fd_a, model, seed + 1, &b_to_a);
+  std::cout << "netem_relay: ready " << netns_a << ":" << dev_a << "=" << addr_a << " <-> "
+            << netns_b << ":" << dev_b << "=" << addr_b << " delay_ms=" << model.delay_ms
+            << " jitter_ms=" << model.jitter_ms << " loss=" << model.loss
+            << " rate_kbit=" << model.rate_kbit << std::endl;
+  const Clock::time_point end =
+      Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(duration_s * 1000));
+  while (!g_stop && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  g_stop = true;
+  forward.join();
+  backward.join();
+  close(fd_a);
+  close(fd_b);
+  for (const auto& [name, c] : {std::pair<const char*, Counters*>{"a_to_b", &a_to_b},
+                                std::pair<const char*, Counters*>{"b_to_a", &b_to_a}}) {
+    std::cout << "netem_relay: " << name << " forwarded=" << c->forwarded
+              << " lost=" << c->lost << " queue_drops=" << c->queue_drops
+              << " outage_drops=" << c->outage_drops << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace mostar::network
+
+int main(int argc, char** argv) { return mostar::network::Main(argc, argv); }
