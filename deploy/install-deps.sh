@@ -10,7 +10,7 @@ PACKAGES=(
   # DDS: runtime, generator (brings a JRE), tools
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   # sensors, maths, vision, config
-  libopencv-dev libeigen3-dev libserial-dev libdc1394-dev
+  libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev
   libprotobuf-dev protobuf-compiler libcli11-dev
   # client UI
   libglfw3-dev libimgui-dev libgl-dev libgl1-mesa-dri

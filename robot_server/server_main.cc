@@ -18,6 +18,9 @@
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/time/rate_meter.h"
+#include "common/record/recording_reader.h"
+#include "common/record/recording_writer.h"
+#include "common/record/replay_player.h"
 #include "robot_server/camera/camera_factory.h"
 #include "robot_server/camera/camera_pipeline.h"
 #include "robot_server/drive/drive_config.h"
@@ -127,6 +130,65 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
   return false;
 }
 
+// Publishes a recording on DDS as the robot would, until its end (or forever with `loop`) or a
+// signal. Stamps are those of the recording. Velocity commands are not acted on.
+int RunReplay(const std::string& path, double rate, bool loop, RobotNode* node, StampTrace* trace,
+              double duration_s) {
+  std::string error;
+  auto reader = record::RecordingReader::Open(path, &error);
+  if (!reader) {
+    std::cerr << "robot_server: cannot replay: " << error << "\n";
+    return 2;
+  }
+  record::ReplayOptions options;
+  options.rate = rate;
+  options.loop = loop;
+  if (!options.IsValid(&error)) {
+    std::cerr << "robot_server: --replay-rate: " << error << "\n";
+    return 2;
+  }
+  const Clock* clock = &SystemClock::Instance();
+  record::ReplayPlayer player(reader.get(), *clock, options);
+  MOSTAR_LOG(INFO) << "replaying " << path << " (robot '" << reader->info().robot_id
+                   << "') at " << rate << "x" << (loop ? ", looping" : "");
+  const SteadyTime start = clock->SteadyNow();
+  uint64_t published = 0;
+  while (!g_stop && !player.finished()) {
+    for (const record::RecordedMessage& m : player.PollDue()) {
+      ++published;
+      std::visit(
+          [&](const auto& p) {
+            using T = std::decay_t<decltype(p)>;
+            if constexpr (std::is_same_v<T, record::RecordedImage>) {
+              node->PublishImage(p.eye, p.image);
+              trace->Add(p.eye == Eye::kLeft ? "left" : "right", p.image.stamp, p.pair_sequence);
+            } else if constexpr (std::is_same_v<T, LaserScan>) {
+              node->PublishScan(p);
+              trace->Add("scan", p.stamp, p.sequence);
+            } else if constexpr (std::is_same_v<T, Odometry>) {
+              node->PublishOdometry(p);
+            } else if constexpr (std::is_same_v<T, RobotHealth>) {
+              node->PublishHealth(p);
+            } else if constexpr (std::is_same_v<T, ControlLease>) {
+              node->PublishLease(p);
+            }
+          },
+          m.payload);
+    }
+    if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
+    const std::optional<SteadyTime> next = player.NextDueTime();
+    const SteadyTime wake = clock->SteadyNow() + std::chrono::milliseconds(50);
+    std::this_thread::sleep_until(next ? std::min(*next, wake) : wake);
+  }
+  if (reader->damage()) {
+    MOSTAR_LOG(WARNING) << "recording damaged at byte " << reader->damage()->offset << ": "
+                        << reader->damage()->reason << " (replayed everything before it)";
+  }
+  MOSTAR_LOG(INFO) << "replay done: " << published << " records published";
+  trace->Flush();
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"robot_server: publishes the robot's stereo frames, laser scans, odometry and "
                "health over DDS and drives it from one pilot's velocity commands."};
@@ -138,6 +200,15 @@ int Run(int argc, char** argv) {
   double duration_s = 0;
   std::string log_level = "info";
   std::string trace_path;
+  std::string record_path;
+  std::string replay_path;
+  double replay_rate = 1.0;
+  bool replay_loop = false;
+  app.add_option("--record", record_path, "record everything published (and accepted commands)");
+  app.add_option("--replay", replay_path, "publish this recording instead of live devices")
+      ->check(CLI::ExistingFile);
+  app.add_option("--replay-rate", replay_rate, "replay speed factor")->check(CLI::PositiveNumber);
+  app.add_flag("--loop", replay_loop, "replay in a loop");
   app.add_option("-c,--config", config_path, "server configuration (protobuf text format)")
       ->check(CLI::ExistingFile);
   app.add_option("--domain", domain, "DDS domain id (default: config, then MOSTAR_DDS_DOMAIN)")
@@ -185,6 +256,26 @@ int Run(int argc, char** argv) {
   }
 
   const Clock* clock = &SystemClock::Instance();
+  if (!replay_path.empty()) {
+    dds::ParticipantOptions replay_dds;
+    replay_dds.domain_id =
+        domain >= 0 ? domain : dds::DomainIdFromEnvironment(config.dds().domain_id());
+    replay_dds.profile = dds_profile.empty() ? config.dds().profile() : dds_profile;
+    replay_dds.name = "robot";
+    auto replay_participant = dds::Participant::Create(replay_dds, &error);
+    if (!replay_participant) {
+      std::cerr << "robot_server: " << error << "\n";
+      return 1;
+    }
+    auto replay_node = RobotNode::Create(replay_participant.get(), {}, clock, &error);
+    if (!replay_node) {
+      std::cerr << "robot_server: " << error << "\n";
+      return 1;
+    }
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    return RunReplay(replay_path, replay_rate, replay_loop, replay_node.get(), &trace, duration_s);
+  }
   Devices devices;
   if (!MakeDevices(config, scene_dir, clock, &settings, &devices, &error)) {
     std::cerr << "robot_server: " << error << "\n";
@@ -213,6 +304,7 @@ int Run(int argc, char** argv) {
   std::map<std::string, SteadyTime> last_command_from;  // for holder liveliness
   std::unique_ptr<RobotNode> node;
   std::atomic<bool> lease_changed{true};
+  std::atomic<record::RecordingWriter*> recorder_ptr{nullptr};  // set once recording starts
 
   RobotNode::Callbacks callbacks;
   callbacks.on_command = [&](const VelocityCommand& cmd) {
@@ -225,6 +317,7 @@ int Run(int argc, char** argv) {
     const drive::CommandVerdict verdict = governor.HandleCommand(cmd, offset);
     if (verdict == drive::CommandVerdict::kAccepted) {
       trace.Add("command", cmd.stamp, cmd.sequence);
+      if (recorder_ptr != nullptr) recorder_ptr.load()->Write(cmd);
     } else {
       MOSTAR_LOG_EVERY_SEC(DEBUG, 2) << "command " << cmd.sequence << " from " << cmd.sender_id
                                      << ": " << drive::CommandVerdictName(verdict);
@@ -252,11 +345,28 @@ int Run(int argc, char** argv) {
     return 1;
   }
 
+  std::unique_ptr<record::RecordingWriter> recorder;
+  if (!record_path.empty()) {
+    record::RecordingInfo info;
+    info.robot_id = config.robot_id();
+    info.metadata.emplace_back("source", ServerConfig::Source_Name(config.source()));
+    info.metadata.emplace_back("scene", config.scene_file());
+    recorder = record::RecordingWriter::Open(record_path, {}, info, *clock, &error);
+    if (!recorder) {
+      std::cerr << "robot_server: cannot record: " << error << "\n";
+      return 2;
+    }
+    MOSTAR_LOG(INFO) << "recording to " << record_path;
+  }
+  record::RecordingWriter* rec = recorder.get();
+  recorder_ptr = rec;
+
   camera::CameraPipeline pipeline(std::move(devices.camera), devices.camera_options,
-                                  [&node, &trace](const CompressedStereoPair& pair) {
+                                  [&node, &trace, rec](const CompressedStereoPair& pair) {
                                     if (!node->PublishStereo(pair)) {
                                       return camera::Delivery::kSkipped;
                                     }
+                                    if (rec) rec->Write(pair);
                                     trace.Add("left", pair.left.stamp, pair.sequence);
                                     trace.Add("right", pair.right.stamp, pair.sequence);
                                     return camera::Delivery::kSent;
@@ -270,6 +380,7 @@ int Run(int argc, char** argv) {
   auto publish_scan = [&](const LaserScan& scan) {
     governor.SetLaserScan(scan);
     node->PublishScan(scan);
+    if (rec) rec->Write(scan);
     trace.Add("scan", scan.stamp, scan.sequence);
   };
   std::thread pattern_scan_thread;
@@ -327,13 +438,16 @@ int Run(int argc, char** argv) {
     drive::EncoderReading reading;
     if (motors->ReadEncoders(&reading, &error) && odometry.AddReading(reading)) {
       node->PublishOdometry(odometry.odometry());
+      if (rec) rec->Write(odometry.odometry());
       trace.Add("odom_x_mm", odometry.odometry().stamp,
                 static_cast<uint64_t>(std::max(0.0, odometry.odometry().pose.x_m * 1000)));
     }
     control_rate.Tick(now);
     if (lease_changed.exchange(false) || now >= next_lease) {
       next_lease = now + lease_period;
-      node->PublishLease(lease.lease());
+      const ControlLease current = lease.lease();
+      node->PublishLease(current);
+      if (rec) rec->Write(current);
     }
     if (now >= next_health) {
       next_health = now + health_period;
@@ -362,6 +476,7 @@ int Run(int argc, char** argv) {
       }
       health.devices.push_back(drive_health);
       node->PublishHealth(health);
+      if (rec) rec->Write(health);
     }
     if (duration_s > 0 && now - start > FromSeconds(duration_s)) break;
     std::this_thread::sleep_until(next_cycle);
@@ -372,6 +487,15 @@ int Run(int argc, char** argv) {
   if (pattern_scan_thread.joinable()) pattern_scan_thread.join();
   if (devices.scanner != nullptr) devices.scanner->Stop();
   pipeline.Stop();
+  recorder_ptr = nullptr;
+  if (recorder) {
+    if (!recorder->Close(&error)) {
+      MOSTAR_LOG(ERROR) << "recording: " << error;
+    }
+    const auto stats = recorder->stats();
+    MOSTAR_LOG(INFO) << "recording closed: " << stats.records_written << " records, "
+                     << stats.frames_dropped << " frames dropped";
+  }
   trace.Flush();
   return 0;
 }

@@ -41,8 +41,14 @@ class LogMessage {
 class LogRateLimiter {
  public:
   explicit LogRateLimiter(double period_s) : period_ns_(static_cast<int64_t>(period_s * 1e9)) {}
+  static constexpr uint64_t kDenied = ~uint64_t{0};
   // True when this event should be logged; `suppressed` gets the number skipped since the last.
   bool Allow(uint64_t* suppressed);
+  // The number skipped since the last allowed event, or kDenied when this one is not allowed.
+  uint64_t TryAcquire() {
+    uint64_t suppressed = 0;
+    return Allow(&suppressed) ? suppressed : kDenied;
+  }
 
  private:
   const int64_t period_ns_;
@@ -52,26 +58,23 @@ class LogRateLimiter {
 
 }  // namespace mostar
 
-// The switch makes each macro one statement, safe inside an unbraced if/else.
-#define MOSTAR_LOG(level)                                    \
-  switch (0)                                                 \
-  case 0:                                                    \
-  default:                                                   \
-    if (!::mostar::LogEnabled(::mostar::LogLevel::k##level)) { \
-    } else                                                   \
-    ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__).stream()
+// Each macro is a single `for` statement that runs its body at most once, so it is safe inside
+// an unbraced if/else and evaluates the streamed expressions only when the line is logged.
+#define MOSTAR_LOG(level)                                                          \
+  for (bool mostar_log_once_ = ::mostar::LogEnabled(::mostar::LogLevel::k##level); \
+       mostar_log_once_; mostar_log_once_ = false)                                 \
+  ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__).stream()
 
-#define MOSTAR_LOG_EVERY_SEC(level, seconds)                                                 \
-  switch (0)                                                                                 \
-  case 0:                                                                                    \
-  default:                                                                                   \
-  if (uint64_t mostar_log_suppressed_ = 0;                                                   \
-      !::mostar::LogEnabled(::mostar::LogLevel::k##level) ||                                 \
-      !([]() -> ::mostar::LogRateLimiter& {                                                  \
-        static ::mostar::LogRateLimiter limiter(seconds);                                    \
-        return limiter;                                                                      \
-      }())                                                                                   \
-           .Allow(&mostar_log_suppressed_)) {                                                \
-  } else                                                                                     \
-    ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__, mostar_log_suppressed_) \
-        .stream()
+#define MOSTAR_LOG_EVERY_SEC(level, seconds)                                                     \
+  for (uint64_t mostar_log_suppressed_ =                                                         \
+           ::mostar::LogEnabled(::mostar::LogLevel::k##level)                                    \
+               ? ([]() -> ::mostar::LogRateLimiter& {                                            \
+                   static ::mostar::LogRateLimiter limiter(seconds);                             \
+                   return limiter;                                                               \
+                 }())                                                                            \
+                     .TryAcquire()                                                               \
+               : ::mostar::LogRateLimiter::kDenied;                                              \
+       mostar_log_suppressed_ != ::mostar::LogRateLimiter::kDenied;                              \
+       mostar_log_suppressed_ = ::mostar::LogRateLimiter::kDenied)                               \
+  ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__, mostar_log_suppressed_) \
+      .stream()

@@ -44,6 +44,26 @@ TEST(LogTest, EverySecMacroLogsOncePerPeriod) {
   EXPECT_EQ(out.find("burst 1"), std::string::npos);
 }
 
+TEST(LogTest, MacroIsOneStatementInsideUnbracedIfWithoutElse) {
+  testing::internal::CaptureStderr();
+  const bool flag = true;
+  if (flag) MOSTAR_LOG(ERROR) << "logged";
+  if (!flag) MOSTAR_LOG_EVERY_SEC(ERROR, 1) << "never";
+  const std::string out = testing::internal::GetCapturedStderr();
+  EXPECT_NE(out.find("logged"), std::string::npos);
+  EXPECT_EQ(out.find("never"), std::string::npos);
+}
+
+TEST(LogTest, DisabledLevelDoesNotEvaluateTheMessage) {
+  const LogLevel saved = GetLogLevel();
+  SetLogLevel(LogLevel::kERROR);
+  int evaluated = 0;
+  auto count = [&evaluated] { return ++evaluated; };
+  MOSTAR_LOG(DEBUG) << count();
+  SetLogLevel(saved);
+  EXPECT_EQ(evaluated, 0);
+}
+
 TEST(LogTest, MacroIsOneStatementInsideUnbracedIf) {
   testing::internal::CaptureStderr();
   bool flag = false;

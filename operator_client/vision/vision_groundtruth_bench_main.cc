@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -203,14 +202,6 @@ int Run(int argc, char** argv) {
         }
         for (size_t i = 0; i < beams; ++i) *found += hit[i] ? 1 : 0;
       };
-      if (std::getenv("VISION_DEBUG") != nullptr && frame == 0) {
-        for (const PossibleObstacle& dot : result.classification.possible_obstacles) {
-          const size_t i = static_cast<size_t>(dot.beam);
-          std::fprintf(stderr, "beam %zu nep %.2f base %.2f truth %.2f scan %.2f pos %d\n", i,
-                       dot.distance_m, base_m[i], laser_truth.true_ranges_m[i],
-                       input.scan.ranges_m[i], static_cast<int>(positive[i]));
-        }
-      }
       score(mono, &c.mono_dots, &c.mono_true, &c.mono_found);
       score(result.classification, &c.stereo_dots, &c.stereo_true, &c.stereo_found);
 

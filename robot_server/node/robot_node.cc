@@ -109,6 +109,10 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
   return left_ok && right_ok;
 }
 
+void RobotNode::PublishImage(Eye eye, const CompressedImage& image) {
+  (eye == Eye::kLeft ? left_ : right_)->Write(dds::ToIdl(image));
+}
+
 void RobotNode::PublishScan(const LaserScan& scan) { scan_->Write(dds::ToIdl(scan)); }
 void RobotNode::PublishOdometry(const Odometry& odometry) { odom_->Write(dds::ToIdl(odometry)); }
 void RobotNode::PublishHealth(const RobotHealth& health) { health_->Write(dds::ToIdl(health)); }

@@ -42,6 +42,8 @@ class RobotNode {
   // Both eyes; false when the pair was not sent: skipped at the source because readers have not
   // acknowledged the previous one yet (ack-clock), or refused by DDS.
   bool PublishStereo(const CompressedStereoPair& pair);
+  // One eye, unconditionally (replay).
+  void PublishImage(Eye eye, const CompressedImage& image);
   void PublishScan(const LaserScan& scan);
   void PublishOdometry(const Odometry& odometry);
   void PublishHealth(const RobotHealth& health);

@@ -1,0 +1,251 @@
+#!/usr/bin/env bash
+# Creates the DDS Security (OMG DDS-Security 1.1, Fast DDS builtin plugins PKI-DH,
+# Access-Permissions, AES-GCM-GMAC) files for one mostar robot and its operators.
+#
+# Usage:
+#   make_pki.sh OUT_DIR [--robot NAME] [--pilot NAME ...] [--observer NAME ...]
+#                       [--relay NAME ...] [--profile BASE.xml] [--domains MIN-MAX]
+#                       [--org ORG] [--days N]
+#
+#   --robot NAME     the robot_server identity (default: robot)
+#   --pilot NAME     an operator allowed to drive (repeatable)
+#   --observer NAME  an operator allowed to watch only (repeatable)
+#   --relay NAME     a mostar_relay identity (repeatable)
+#   --profile FILE   DDS XML profiles file to make secure copies of (default: deploy/dds/lan.xml)
+#   --domains A-B    DDS domain ids the permissions cover (default 0-232)
+#
+# Produces in OUT_DIR (existing CAs are reused, so participants can be added later):
+#   identity_ca.{cert,key}.pem     signs the participants' certificates (keep the key offline)
+#   permissions_ca.{cert,key}.pem  signs governance and permissions (keep the key offline)
+#   identity_ca.crl.pem            revocation list (see revoke.sh)
+#   governance.xml / governance.p7s          one for all participants
+#   NAME.{cert,key}.pem                      each participant's identity
+#   NAME.permissions.xml / NAME.permissions.p7s
+#   NAME.xml                       the profiles file with this participant's security
+#                                  properties (absolute file:// paths into OUT_DIR) inserted
+#                                  at every "mostar:security" marker: run the program with
+#                                  --dds-profile OUT_DIR/NAME.xml
+# A participant needs: identity_ca.cert.pem, permissions_ca.cert.pem, identity_ca.crl.pem,
+# governance.p7s, NAME.cert.pem, NAME.key.pem, NAME.permissions.p7s, NAME.xml. Never copy
+# the CA keys to robots or operator computers.
+#
+# Grants (topics are DDS names, see common/dds/topics.h):
+#   robot     publishes camera, scan, odom, health, control/lease, clock/pong;
+#             subscribes cmd_vel, estop, control/request, clock/ping.
+#   pilot     publishes cmd_vel, estop, control/request, clock/ping; subscribes the rest.
+#   observer  subscribes camera, scan, odom, health, control/lease, clock/pong;
+#             publishes clock/ping and estop (anyone watching may stop the robot), never
+#             cmd_vel or control/request.
+#   relay     subscribes and publishes camera, scan, odom, health, control/lease (it forwards
+#             them to observers); nothing towards the robot.
+set -euo pipefail
+
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
+die() { echo "make_pki.sh: $*" >&2; exit 1; }
+
+[ $# -ge 1 ] || usage
+out=$1; shift
+robot=robot
+pilots=(); observers=(); relays=()
+here=$(cd "$(dirname "$0")" && pwd)
+profile="$here/../dds/lan.xml"
+domain_min=0; domain_max=232
+org=mostar
+days=3650
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --robot) robot=$2; shift 2 ;;
+    --pilot) pilots+=("$2"); shift 2 ;;
+    --observer) observers+=("$2"); shift 2 ;;
+    --relay) relays+=("$2"); shift 2 ;;
+    --profile) profile=$2; shift 2 ;;
+    --domains) domain_min=${2%-*}; domain_max=${2#*-}; shift 2 ;;
+    --org) org=$2; shift 2 ;;
+    --days) days=$2; shift 2 ;;
+    -h|--help) usage ;;
+    *) die "unknown option $1" ;;
+  esac
+done
+for n in "$robot" "${pilots[@]}" "${observers[@]}" "${relays[@]}"; do
+  [[ "$n" =~ ^[A-Za-z0-9_.-]+$ ]] || die "participant name '$n' must be [A-Za-z0-9_.-]+"
+done
+[ -f "$profile" ] || die "no profiles file $profile"
+command -v openssl >/dev/null || die "openssl is required"
+
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+cd "$out"
+umask 077
+
+# --- certificate authorities (ECDSA P-256), with an openssl 'ca' database for revocation ---
+make_ca() {  # name, common name
+  [ -f "$1.cert.pem" ] && return 0
+  openssl req -x509 -nodes -days "$days" -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 \
+    -keyout "$1.key.pem" -out "$1.cert.pem" -subj "/O=$org/CN=$2" 2>/dev/null
+}
+make_ca identity_ca "$org identity CA"
+make_ca permissions_ca "$org permissions CA"
+mkdir -p ca_db
+[ -f ca_db/index.txt ] || : > ca_db/index.txt
+[ -f ca_db/serial ] || echo 1000 > ca_db/serial
+[ -f ca_db/crlnumber ] || echo 1000 > ca_db/crlnumber
+cat > ca.cnf <<EOF
+[ ca ]
+default_ca = identity_ca
+[ identity_ca ]
+dir = $out
+database = \$dir/ca_db/index.txt
+serial = \$dir/ca_db/serial
+crlnumber = \$dir/ca_db/crlnumber
+new_certs_dir = \$dir/ca_db
+certificate = \$dir/identity_ca.cert.pem
+private_key = \$dir/identity_ca.key.pem
+default_md = sha256
+default_days = $days
+default_crl_days = $days
+policy = policy_any
+unique_subject = no
+copy_extensions = none
+[ policy_any ]
+organizationName = supplied
+commonName = supplied
+EOF
+
+make_identity() {  # name
+  [ -f "$1.cert.pem" ] && return 0
+  openssl req -nodes -new -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 \
+    -keyout "$1.key.pem" -out "$1.csr.pem" -subj "/O=$org/CN=$1" 2>/dev/null
+  openssl ca -batch -config ca.cnf -notext -in "$1.csr.pem" -out "$1.cert.pem" 2>/dev/null
+  rm -f "$1.csr.pem"
+}
+
+# --- governance: who may join, what is protected ---
+cat > governance.xml <<EOF
+<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
+  <domain_access_rules>
+    <domain_rule>
+      <domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>
+      <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
+      <enable_join_access_control>true</enable_join_access_control>
+      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
+      <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
+      <rtps_protection_kind>NONE</rtps_protection_kind>
+      <topic_access_rules>
+        <topic_rule>
+          <topic_expression>rt/mostar/cmd_vel</topic_expression>
+          <enable_discovery_protection>true</enable_discovery_protection>
+          <enable_liveliness_protection>true</enable_liveliness_protection>
+          <enable_read_access_control>true</enable_read_access_control>
+          <enable_write_access_control>true</enable_write_access_control>
+          <metadata_protection_kind>ENCRYPT</metadata_protection_kind>
+          <data_protection_kind>ENCRYPT</data_protection_kind>
+        </topic_rule>
+        <topic_rule>
+          <topic_expression>rt/mostar/*</topic_expression>
+          <enable_discovery_protection>true</enable_discovery_protection>
+          <enable_liveliness_protection>false</enable_liveliness_protection>
+          <enable_read_access_control>true</enable_read_access_control>
+          <enable_write_access_control>true</enable_write_access_control>
+          <metadata_protection_kind>SIGN</metadata_protection_kind>
+          <data_protection_kind>ENCRYPT</data_protection_kind>
+        </topic_rule>
+      </topic_access_rules>
+    </domain_rule>
+  </domain_access_rules>
+</dds>
+EOF
+openssl smime -sign -text -in governance.xml -out governance.p7s \
+  -signer permissions_ca.cert.pem -inkey permissions_ca.key.pem
+
+# --- permissions per participant ---
+sensors="rt/mostar/camera/* rt/mostar/scan rt/mostar/odom rt/mostar/health rt/mostar/control/lease"
+topics_xml() { for t in "$@"; do printf '            <topic>%s</topic>\n' "$t"; done; }
+make_permissions() {  # name, "publish topics", "subscribe topics"
+  local subject not_before not_after
+  subject=$(openssl x509 -in "$1.cert.pem" -noout -subject -nameopt RFC2253 | sed 's/^subject=//')
+  not_before=$(date -u +%Y-%m-%dT%H:%M:%S)
+  not_after=$(date -u -d "+$days days" +%Y-%m-%dT%H:%M:%S)
+  # shellcheck disable=SC2086
+  cat > "$1.permissions.xml" <<EOF
+<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
+  <permissions>
+    <grant name="$1_grant">
+      <subject_name>$subject</subject_name>
+      <validity><not_before>$not_before</not_before><not_after>$not_after</not_after></validity>
+      <allow_rule>
+        <domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>
+        <publish>
+          <topics>
+$(topics_xml $2)
+          </topics>
+        </publish>
+        <subscribe>
+          <topics>
+$(topics_xml $3)
+          </topics>
+        </subscribe>
+      </allow_rule>
+      <default>DENY</default>
+    </grant>
+  </permissions>
+</dds>
+EOF
+  openssl smime -sign -text -in "$1.permissions.xml" -out "$1.permissions.p7s" \
+    -signer permissions_ca.cert.pem -inkey permissions_ca.key.pem
+}
+
+# --- a secure copy of the profiles file for each participant ---
+make_profile() {  # name
+  local f="file://$out"
+  local props
+  props=$(cat <<EOF
+<propertiesPolicy>
+          <properties>
+            <property><name>dds.sec.auth.plugin</name><value>builtin.PKI-DH</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.identity_ca</name><value>$f/identity_ca.cert.pem</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.identity_certificate</name><value>$f/$1.cert.pem</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.identity_crl</name><value>$f/identity_ca.crl.pem</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.private_key</name><value>$f/$1.key.pem</value></property>
+            <property><name>dds.sec.access.plugin</name><value>builtin.Access-Permissions</value></property>
+            <property><name>dds.sec.access.builtin.Access-Permissions.permissions_ca</name><value>$f/permissions_ca.cert.pem</value></property>
+            <property><name>dds.sec.access.builtin.Access-Permissions.governance</name><value>$f/governance.p7s</value></property>
+            <property><name>dds.sec.access.builtin.Access-Permissions.permissions</name><value>$f/$1.permissions.p7s</value></property>
+            <property><name>dds.sec.crypto.plugin</name><value>builtin.AES-GCM-GMAC</value></property>
+          </properties>
+        </propertiesPolicy>
+EOF
+)
+  grep -q "mostar:security" "$profile" || die "$profile has no <!-- mostar:security --> marker"
+  PROPS="$props" awk '{ if ($0 ~ /<!-- mostar:security -->/) { match($0, /^ */); printf "%s%s\n", substr($0, 1, RLENGTH), ENVIRON["PROPS"] } else print }' \
+    "$profile" > "$1.xml"
+}
+
+make_identity "$robot"
+make_permissions "$robot" "$sensors rt/mostar/clock/pong" \
+  "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
+make_profile "$robot"
+for p in "${pilots[@]}"; do
+  make_identity "$p"
+  make_permissions "$p" "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping" \
+    "$sensors rt/mostar/clock/pong"
+  make_profile "$p"
+done
+for o in "${observers[@]}"; do
+  make_identity "$o"
+  make_permissions "$o" "rt/mostar/clock/ping rt/mostar/estop" "$sensors rt/mostar/clock/pong"
+  make_profile "$o"
+done
+for r in "${relays[@]}"; do
+  make_identity "$r"
+  make_permissions "$r" "$sensors" "$sensors"
+  make_profile "$r"
+done
+
+openssl ca -batch -config ca.cnf -gencrl -out identity_ca.crl.pem 2>/dev/null
+chmod 644 ./*.cert.pem ./*.p7s ./*.xml identity_ca.crl.pem
+echo "make_pki.sh: wrote $out (robot: $robot; pilots: ${pilots[*]:-none};" \
+  "observers: ${observers[*]:-none}; relays: ${relays[*]:-none})"

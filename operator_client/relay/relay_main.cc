@@ -1,0 +1,194 @@
+// mostar_relay: forwards the robot's streams to many observers, so the robot's uplink carries
+// each stream once however many people watch.
+//
+// Two DDS participants: one on the robot side (domain --robot-domain, XML participant profile
+// --robot-profile-name, default "relay") subscribes to camera left/right, scan, odometry,
+// health and control lease; one on the observer side (domain --observer-domain, profile
+// --observer-profile-name, default "relay_observers") re-publishes every sample unchanged, with
+// the same QoS (common/dds/qos.h). Nothing is ever forwarded towards the robot: the relay
+// creates no writer on the robot side, so observers behind it can neither drive nor stop the
+// robot, and with DDS Security its permissions (deploy/security/make_pki.sh --relay) do not
+// allow it either.
+//
+// The two sides must not share a DDS network: give them different domain ids (the default
+// observer domain is the robot domain + 1), or the relay would hear its own output.
+// Fast DDS refuses two XML files that define the same profile names in one process, so both
+// sides use one profiles file (--dds-profile; deploy/dds/{lan,wan}.xml define both profiles),
+// or "loopback".
+//
+// Threading: samples are forwarded on the DDS receive threads of the robot-side readers; the
+// main thread only prints statistics every --stats-period-s and waits for a signal or
+// --duration-s.
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/dds/conversions.h"
+#include "common/dds/endpoint.h"
+#include "common/dds/participant.h"
+#include "common/dds/topics.h"
+#include "common/log/log.h"
+#include "mostar_msgsPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
+
+namespace mostar::relay {
+namespace {
+
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop = true; }
+
+// One forwarded topic: a reader on the robot side feeding a writer on the observer side.
+class ForwarderBase {
+ public:
+  virtual ~ForwarderBase() = default;
+  virtual bool ok(std::string* error) const = 0;
+  virtual std::string Stats() const = 0;
+};
+
+template <class PubSubType>
+class Forwarder final : public ForwarderBase {
+ public:
+  Forwarder(dds::Participant& robot_side, dds::Participant& observer_side, const char* topic,
+            dds::Stream stream)
+      : topic_(topic),
+        writer_(observer_side, topic, stream),
+        reader_(robot_side, topic, stream, [this](const typename PubSubType::type& sample) {
+          if (!writer_.Write(sample)) ++dropped_;
+        }) {}
+
+  bool ok(std::string* error) const override {
+    if (!writer_.ok()) *error = writer_.error();
+    if (!reader_.ok()) *error = reader_.error();
+    return writer_.ok() && reader_.ok();
+  }
+  std::string Stats() const override {
+    return std::string(topic_) + ": in=" + std::to_string(reader_.received()) +
+           " out=" + std::to_string(writer_.written()) + " refused=" +
+           std::to_string(dropped_.load()) + " observers=" + std::to_string(writer_.matched());
+  }
+
+ private:
+  const char* topic_;
+  std::atomic<uint64_t> dropped_{0};
+  dds::Writer<PubSubType> writer_;  // constructed before the reader that feeds it
+  dds::Reader<PubSubType> reader_;
+};
+
+int Main(int argc, char** argv) {
+  CLI::App app("mostar_relay: forwards the robot's sensor streams to many observers");
+  std::string profile = "loopback";
+  dds::ParticipantOptions robot_options, observer_options;
+  robot_options.name = "relay";
+  robot_options.xml_participant_profile = "relay";
+  observer_options.name = "relay";
+  observer_options.xml_participant_profile = "relay_observers";
+  int observer_domain = -1;
+  double duration_s = 0;
+  double stats_period_s = 5;
+  std::string log_level = "info";
+  app.add_option("--dds-profile", profile, "'loopback' or a Fast DDS XML profiles file");
+  app.add_option("--robot-domain", robot_options.domain_id, "DDS domain of the robot")
+      ->check(CLI::Range(0, 232));
+  app.add_option("--observer-domain", observer_domain,
+                 "DDS domain of the observers (default: robot domain + 1)")
+      ->check(CLI::Range(0, 232));
+  app.add_option("--robot-profile-name", robot_options.xml_participant_profile,
+                 "participant profile for the robot side");
+  app.add_option("--observer-profile-name", observer_options.xml_participant_profile,
+                 "participant profile for the observer side");
+  app.add_option("--duration", duration_s, "stop after this many seconds (0 = until signal)")
+      ->check(CLI::Range(0.0, 1e7));
+  app.add_option("--stats-period-s", stats_period_s, "print forwarding statistics this often")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--log-level", log_level, "debug | info | warning | error")
+      ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
+  CLI11_PARSE(app, argc, argv);
+  LogLevel level = LogLevel::kINFO;
+  ParseLogLevel(log_level, &level);
+  SetLogLevel(level);
+
+  robot_options.profile = profile;
+  observer_options.profile = profile;
+  observer_options.domain_id =
+      observer_domain >= 0 ? observer_domain : robot_options.domain_id + 1;
+  if (observer_options.domain_id > 232) {
+    std::cerr << "mostar_relay: --observer-domain is required when the robot domain is 232\n";
+    return 2;
+  }
+  if (observer_options.domain_id == robot_options.domain_id) {
+    std::cerr << "mostar_relay: robot and observer domains must differ (the relay would hear "
+                 "its own output)\n";
+    return 2;
+  }
+  std::string error;
+  auto robot_side = dds::Participant::Create(robot_options, &error);
+  if (!robot_side) {
+    std::cerr << "mostar_relay: robot side: " << error << "\n";
+    return 2;
+  }
+  auto observer_side = dds::Participant::Create(observer_options, &error);
+  if (!observer_side) {
+    std::cerr << "mostar_relay: observer side: " << error << "\n";
+    return 2;
+  }
+
+  namespace topics = dds::topics;
+  using dds::Stream;
+  std::vector<std::unique_ptr<ForwarderBase>> forwarders;
+  using Image = sensor_msgs::msg::dds_::CompressedImage_PubSubType;
+  forwarders.push_back(std::make_unique<Forwarder<Image>>(*robot_side, *observer_side,
+                                                          topics::kCameraLeft, Stream::kVideo));
+  forwarders.push_back(std::make_unique<Forwarder<Image>>(*robot_side, *observer_side,
+                                                          topics::kCameraRight, Stream::kVideo));
+  forwarders.push_back(std::make_unique<Forwarder<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
+      *robot_side, *observer_side, topics::kScan, Stream::kSensor));
+  forwarders.push_back(std::make_unique<Forwarder<nav_msgs::msg::dds_::Odometry_PubSubType>>(
+      *robot_side, *observer_side, topics::kOdometry, Stream::kSensor));
+  forwarders.push_back(
+      std::make_unique<Forwarder<mostar_msgs::msg::dds_::RobotHealth_PubSubType>>(
+          *robot_side, *observer_side, topics::kHealth, Stream::kState));
+  forwarders.push_back(
+      std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
+          *robot_side, *observer_side, topics::kControlLease, Stream::kState));
+  for (const auto& f : forwarders) {
+    if (!f->ok(&error)) {
+      std::cerr << "mostar_relay: " << error << "\n";
+      return 2;
+    }
+  }
+  MOSTAR_LOG(INFO) << "mostar_relay: robot domain " << robot_options.domain_id
+                   << " -> observer domain " << observer_options.domain_id << " (" << profile
+                   << ")";
+
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  Clock::time_point next_stats = start + std::chrono::duration_cast<Clock::duration>(
+                                             std::chrono::duration<double>(stats_period_s));
+  while (!g_stop) {
+    const Clock::time_point now = Clock::now();
+    if (duration_s > 0 && now - start >= std::chrono::duration<double>(duration_s)) break;
+    if (now >= next_stats) {
+      for (const auto& f : forwarders) MOSTAR_LOG(INFO) << "relay " << f->Stats();
+      next_stats += std::chrono::duration_cast<Clock::duration>(
+          std::chrono::duration<double>(stats_period_s));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // Final statistics on stdout, one line per topic, for scripts.
+  for (const auto& f : forwarders) std::cout << "relay " << f->Stats() << "\n";
+  forwarders.clear();  // stop callbacks before the participants go
+  return 0;
+}
+
+}  // namespace
+}  // namespace mostar::relay
+
+int main(int argc, char** argv) { return mostar::relay::Main(argc, argv); }

@@ -1,0 +1,205 @@
+// net_probe: a measuring DDS observer for network tests and the network bench.
+//
+// Subscribes to the robot's streams with the same QoS as operator_client (common/dds), and for
+// every sample records the receive time next to the sample's stamp; it also sends clock pings
+// (1 per 200 ms) that robot_server answers, which measure the operator -> robot one-way latency
+// (t1 - t0) of the reliable control path that commands share. Both clocks are this machine's
+// when probe and robot run on one computer (network namespaces), so ages are exact.
+//
+// Output: one summary line on stdout,
+//   probe: left=N right=N scan=N odom=N health=N lease=N left_age_p50_ms=.. left_age_p95_ms=..
+//          scan_age_p50_ms=.. scan_age_p95_ms=.. ping_oneway_p50_ms=.. ping_rtt_p50_ms=..
+//          pongs=N command_writer=ok|refused|none
+// and with --samples FILE one line per sample: topic,receive_ns,stamp_ns.
+//
+// --try-command-writer asks DDS for a cmd_vel writer (without publishing), to check that DDS
+// Security permissions refuse it for observers. Exit code 0 unless setup failed.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/dds/conversions.h"
+#include "common/dds/endpoint.h"
+#include "common/dds/participant.h"
+#include "common/dds/topics.h"
+#include "common/time/time.h"
+#include "mostar_msgsPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
+
+namespace mostar::network {
+namespace {
+
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop = true; }
+
+class Recorder {
+ public:
+  void Add(const std::string& topic, Time stamp) {
+    const int64_t now_ns = ToUnixNanos(clock_.Now());
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counts_[topic];
+    ages_ms_[topic].push_back(static_cast<double>(now_ns - ToUnixNanos(stamp)) * 1e-6);
+    if (samples_.is_open()) samples_ << topic << ',' << now_ns << ',' << ToUnixNanos(stamp) << '\n';
+  }
+  void AddValue(const std::string& name, double value_ms) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ages_ms_[name].push_back(value_ms);
+    ++counts_[name];
+  }
+  bool OpenSamples(const std::string& path) {
+    if (path.empty()) return true;
+    samples_.open(path, std::ios::trunc);
+    return samples_.good();
+  }
+  int Count(const std::string& topic) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return counts_[topic];
+  }
+  // Percentile `q` in [0, 1] of the values recorded under `topic`; -1 when none.
+  double Percentile(const std::string& topic, double q) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<double> v = ages_ms_[topic];
+    if (v.empty()) return -1;
+    std::sort(v.begin(), v.end());
+    const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+    return v[i];
+  }
+
+ private:
+  SystemClock clock_;
+  std::mutex mutex_;
+  std::map<std::string, int> counts_;
+  std::map<std::string, std::vector<double>> ages_ms_;
+  std::ofstream samples_;
+};
+
+int Main(int argc, char** argv) {
+  CLI::App app("net_probe: measure delivery and age of mostar streams");
+  dds::ParticipantOptions options;
+  options.name = "operator";
+  double duration_s = 10;
+  std::string id = "net_probe";
+  std::string samples_path;
+  bool try_command_writer = false;
+  bool ping = true;
+  app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--dds-profile", options.profile, "'loopback' or a Fast DDS XML profiles file");
+  app.add_option("--profile-name", options.name, "participant profile in the XML file");
+  app.add_option("--id", id, "sender id of the clock pings");
+  app.add_option("--duration-s", duration_s, "measure for this long")->check(CLI::Range(0.5, 3600.0));
+  app.add_option("--samples", samples_path, "write topic,receive_ns,stamp_ns per sample");
+  app.add_flag("--try-command-writer", try_command_writer, "ask DDS for a cmd_vel writer");
+  app.add_flag("!--no-ping", ping, "do not send clock pings");
+  CLI11_PARSE(app, argc, argv);
+
+  Recorder recorder;
+  if (!recorder.OpenSamples(samples_path)) {
+    std::cerr << "net_probe: cannot write " << samples_path << "\n";
+    return 2;
+  }
+  std::string error;
+  std::unique_ptr<dds::Participant> participant = dds::Participant::Create(options, &error);
+  if (!participant) {
+    std::cerr << "net_probe: " << error << "\n";
+    return 2;
+  }
+  namespace topics = dds::topics;
+  using dds::Stream;
+  auto& p = *participant;
+  dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> left(
+      p, topics::kCameraLeft, Stream::kVideo,
+      [&](const dds::wire::CompressedImage& m) { recorder.Add("left", dds::FromIdl(m.header().stamp())); });
+  dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> right(
+      p, topics::kCameraRight, Stream::kVideo,
+      [&](const dds::wire::CompressedImage& m) { recorder.Add("right", dds::FromIdl(m.header().stamp())); });
+  dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
+      p, topics::kScan, Stream::kSensor,
+      [&](const dds::wire::LaserScan& m) { recorder.Add("scan", dds::FromIdl(m.header().stamp())); });
+  dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
+      p, topics::kOdometry, Stream::kSensor,
+      [&](const dds::wire::Odometry& m) { recorder.Add("odom", dds::FromIdl(m.header().stamp())); });
+  dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType> health(
+      p, topics::kHealth, Stream::kState,
+      [&](const dds::wire::RobotHealth& m) { recorder.Add("health", dds::FromIdl(m.stamp())); });
+  dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType> lease(
+      p, topics::kControlLease, Stream::kState,
+      [&](const dds::wire::ControlLease& m) { recorder.Add("lease", dds::FromIdl(m.stamp())); });
+  SystemClock clock;
+  dds::Reader<mostar_msgs::msg::dds_::ClockProbe_PubSubType> pong(
+      p, topics::kClockPong, Stream::kControl, [&](const dds::wire::ClockProbe& m) {
+        if (m.sender_id() != id) return;
+        const ClockProbe probe = dds::FromIdl(m);
+        const double oneway_ms =
+            static_cast<double>(ToUnixNanos(probe.t1) - ToUnixNanos(probe.t0)) * 1e-6;
+        const double rtt_ms =
+            static_cast<double>(ToUnixNanos(clock.Now()) - ToUnixNanos(probe.t0)) * 1e-6;
+        recorder.AddValue("ping_oneway", oneway_ms);
+        recorder.AddValue("ping_rtt", rtt_ms);
+      });
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> ping_writer;
+  if (ping) {
+    ping_writer = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>>(
+        p, topics::kClockPing, Stream::kControl);
+  }
+  const std::vector<std::pair<const char*, bool>> endpoints = {
+      {"left", left.ok()},   {"right", right.ok()}, {"scan", scan.ok()}, {"odom", odom.ok()},
+      {"health", health.ok()}, {"lease", lease.ok()}, {"pong", pong.ok()},
+      {"ping", !ping_writer || ping_writer->ok()}};
+  for (const auto& [name, ok] : endpoints) {
+    if (!ok) {
+      std::cerr << "net_probe: cannot create the " << name << " endpoint\n";
+      return 2;
+    }
+  }
+  std::string command_writer = "none";
+  if (try_command_writer) {
+    dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType> command(p, topics::kCommand,
+                                                                           Stream::kCommand, 1);
+    command_writer = command.ok() ? "ok" : "refused";
+  }
+
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  const auto end = std::chrono::steady_clock::now() +
+                   std::chrono::milliseconds(static_cast<int64_t>(duration_s * 1000));
+  uint64_t sequence = 0;
+  while (!g_stop && std::chrono::steady_clock::now() < end) {
+    if (ping_writer) {
+      ClockProbe probe;
+      probe.sender_id = id;
+      probe.sequence = ++sequence;
+      probe.t0 = clock.Now();
+      ping_writer->Write(dds::ToIdl(probe));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  char line[1024];
+  std::snprintf(line, sizeof(line),
+                "probe: left=%d right=%d scan=%d odom=%d health=%d lease=%d "
+                "left_age_p50_ms=%.1f left_age_p95_ms=%.1f scan_age_p50_ms=%.1f "
+                "scan_age_p95_ms=%.1f ping_oneway_p50_ms=%.1f ping_rtt_p50_ms=%.1f pongs=%d "
+                "command_writer=%s",
+                recorder.Count("left"), recorder.Count("right"), recorder.Count("scan"),
+                recorder.Count("odom"), recorder.Count("health"), recorder.Count("lease"),
+                recorder.Percentile("left", 0.5), recorder.Percentile("left", 0.95),
+                recorder.Percentile("scan", 0.5), recorder.Percentile("scan", 0.95),
+                recorder.Percentile("ping_oneway", 0.5), recorder.Percentile("ping_rtt", 0.5),
+                recorder.Count("ping_rtt"), command_writer.c_str());
+  std::cout << line << std::endl;
+  return 0;
+}
+
+}  // namespace
+}  // namespace mostar::network
+
+int main(int argc, char** argv) { return mostar::network::Main(argc, argv); }

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# robot_server and a headless operator_client in two network namespaces, over the WAN (TCPv4)
+# profile deploy/dds/wan.xml with the robot's address filled in. Checks that stereo frames,
+# scans and health reach the operator, and that its commands reach the robot and are accepted.
+#
+# Usage: netns_wan_test.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR [--emulated]
+#   --emulated  the path goes through netem_relay: 100 ms RTT, 1 % loss each way, 8 Mbit/s
+# Exit 77 (CTest: skipped) when network namespaces cannot be created. Needs xvfb-run.
+set -euo pipefail
+[ $# -ge 4 ] || { echo "usage: netns_wan_test.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR [--emulated]" >&2; exit 2; }
+robot_server=$1; operator_client=$2; netem_relay=$3; src=$4
+emulated=0; [ "${5:-}" = "--emulated" ] && emulated=1
+here=$(cd "$(dirname "$0")" && pwd)
+"$here/netns.sh" check || exit 77
+command -v xvfb-run >/dev/null || { echo "netns_wan_test: xvfb-run is missing"; exit 77; }
+
+prefix="mwan$$"
+work=$(mktemp -d /tmp/mostar_wan_XXXXXX)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  "$here/netns.sh" down "$prefix" || true
+  if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
+}
+trap cleanup EXIT
+"$here/netns.sh" up "$prefix"
+robot_ip=10.231.0.1
+duration=10
+if [ "$emulated" = 1 ]; then
+  robot_ip=10.232.0.1
+  duration=16
+  "$netem_relay" --netns-a "${prefix}_robot" --netns-b "${prefix}_operator" --delay-ms 50 \
+    --jitter-ms 5 --loss 0.01 --rate-kbit 8000 --duration-s 120 > "$work/netem.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
+  grep -q ready "$work/netem.log" || { cat "$work/netem.log"; echo "FAIL: netem_relay"; exit 1; }
+fi
+sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
+domain=$((100 + $$ % 100))
+
+ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
+  --config "$src/deploy/config/server_sim.pbtxt" --source test_pattern \
+  --trace "$work/server.csv" > "$work/server.log" 2>&1 &
+pids+=($!)
+sleep 1
+set +e
+ip netns exec "${prefix}_operator" xvfb-run -a "$operator_client" --headless --domain "$domain" \
+  --dds-profile "$work/wan.xml" --id operator --duration "$duration" --drive 0.2,0 \
+  --calibration "$src/deploy/config/calibration_sim.pbtxt" \
+  --trace "$work/client.csv" > "$work/client.log" 2>&1
+client_exit=$?
+set -e
+
+count() { grep -c "^$1," "$2" || true; }
+left=$(count left "$work/client.csv"); right=$(count right "$work/client.csv")
+scan=$(count scan "$work/client.csv"); health=$(count health "$work/client.csv")
+sent=$(count command "$work/client.csv"); accepted=$(count command "$work/server.csv")
+# Every command the robot accepted must be one the client sent (same sequence numbers).
+unknown=$(comm -13 <(grep '^command,' "$work/client.csv" | cut -d, -f3 | sort -u) \
+                   <(grep '^command,' "$work/server.csv" | cut -d, -f3 | sort -u) | wc -l)
+echo "netns_wan_test (emulated=$emulated): left=$left right=$right scan=$scan health=$health" \
+  "commands sent=$sent accepted=$accepted unknown=$unknown client_exit=$client_exit"
+failures=0
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
+check "operator_client exited cleanly" '[ "$client_exit" = 0 ]'
+check "left frames arrived" '[ "$left" -ge 20 ]'
+check "right frames arrived" '[ "$right" -ge 20 ]'
+check "scans arrived" '[ "$scan" -ge 10 ]'
+check "health arrived" '[ "$health" -ge 3 ]'
+check "commands accepted by the robot" '[ "$accepted" -ge 10 ]'
+check "accepted commands were sent by this client" '[ "$unknown" = 0 ]'
+if [ "$failures" -ne 0 ]; then
+  echo "--- client log"; tail -20 "$work/client.log"; echo "--- server log"; tail -20 "$work/server.log"
+  [ "$emulated" = 0 ] || { echo "--- netem"; cat "$work/netem.log"; }
+  exit 1
+fi
+echo "netns_wan_test: all checks passed"
