@@ -28,12 +28,12 @@ trap 'kill -TERM $SERVER 2>/dev/null; wait $SERVER 2>/dev/null || true' EXIT
 
 if [ -n "${DISPLAY:-}" ]; then
   "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --display "$DISPLAY_MODE" \
-    --calibration deploy/config/calibration_sim.pbtxt
+    --config deploy/config/client_sim.pbtxt
 else
   echo "demo: no display, running the client headless for ${DEMO_SECONDS}s (out/demo.png)"
   xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" \
     "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --headless \
     --display "$DISPLAY_MODE" --duration "$DEMO_SECONDS" --drive 0.15,0.05 \
-    --calibration deploy/config/calibration_sim.pbtxt --screenshot out/demo.png
+    --config deploy/config/client_sim.pbtxt --screenshot out/demo.png
   echo "demo: wrote out/demo.png"
 fi

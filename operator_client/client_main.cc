@@ -10,9 +10,11 @@
 
 #include "common/dds/domain.h"
 #include "common/dds/participant.h"
+#include "common/config/config_loader.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/math/calibration_io.h"
+#include "operator_client/client_config.pb.h"
 #include "operator_client/net/operator_node.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/render/stereo_compositor.h"
@@ -20,12 +22,59 @@
 #include "operator_client/ui/operator_console.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/video/stereo_receiver.h"
+#include "operator_client/vision/vision_pipeline.h"
 
 namespace mostar::client {
 namespace {
 
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
+
+std::string DirectoryOf(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+// Client configuration -> console options; false with a message naming the key.
+bool ApplyConfig(const ClientConfig& config, const std::string& config_dir,
+                 ui::ConsoleOptions* options, std::string* error) {
+  if (config.has_calibration_profile()) {
+    std::string path = config.calibration_profile();
+    if (!path.empty() && path[0] != '/') path = config_dir + "/" + path;
+    if (!math::LoadCalibrationProfile(path, &options->calibration, error)) return false;
+    options->calibration_path = path;
+  }
+  const ArConfig& ar = config.ar();
+  options->ar.min_distance_m = static_cast<float>(ar.min_distance_m());
+  options->ar.max_distance_m = static_cast<float>(ar.max_distance_m());
+  options->ar.wall_height_m = static_cast<float>(ar.wall_height_m());
+  options->ar.segmentation.slope_threshold = static_cast<float>(ar.slope_threshold());
+  options->ar.walls_enabled = ar.walls();
+  options->ar.rays_enabled = ar.rays();
+  options->ar.vertical_lines_enabled = ar.vertical_lines();
+  options->ar.circles_enabled = ar.circles();
+  options->ar.circle_spacing_m = static_cast<float>(ar.circle_spacing_m());
+  options->ar.labels_enabled = ar.labels();
+  options->ar.label_count = ar.label_count();
+  if (!options->ar.IsValid(error)) {
+    *error = "ar: " + *error;
+    return false;
+  }
+  options->vision_enabled = config.vision_enabled();
+  options->vision = vision::FromProto(config.vision());
+  if (!options->vision.IsValid(error)) {
+    *error = "vision: " + *error;
+    return false;
+  }
+  options->drive.max_linear_mps = config.drive().max_linear_mps();
+  options->drive.max_angular_radps = config.drive().max_angular_radps();
+  options->drive.stick_deadzone = config.drive().stick_deadzone();
+  if (!options->drive.IsValid(error)) {
+    *error = "drive: " + *error;
+    return false;
+  }
+  return true;
+}
 
 int Run(int argc, char** argv) {
   CLI::App app{"operator_client: stereoscopic AR view of the robot and driving console."};
@@ -36,6 +85,7 @@ int Run(int argc, char** argv) {
   int strength = 10;
   std::string display = "mono-left";
   std::string calibration_path;
+  std::string config_path;
   bool headless = false;
   bool calibration_panel = false;
   int max_frames = 0;
@@ -54,6 +104,8 @@ int Run(int argc, char** argv) {
   app.add_option("--display", display,
                  "mono-left | mono-right | anaglyph | anaglyph-color | sbs | sbs-half | "
                  "top-bottom | interlaced | quad-buffer");
+  app.add_option("-c,--config", config_path, "client configuration (protobuf text format)")
+      ->check(CLI::ExistingFile);
   app.add_option("--calibration", calibration_path,
                  "laser-camera calibration profile (protobuf text); the panel saves here");
   app.add_flag("--calibration-panel", calibration_panel, "open the calibration panel at start");
@@ -75,17 +127,27 @@ int Run(int argc, char** argv) {
   ParseLogLevel(log_level, &level);
   SetLogLevel(level);
 
+  std::string error;
+  ClientConfig config;
+  if (!config_path.empty() && !LoadTextConfig(config_path, &config, &error)) {
+    std::cerr << "operator_client: bad configuration: " << error << "\n";
+    return 2;
+  }
   ui::ConsoleOptions console_options;
+  if (!ApplyConfig(config, DirectoryOf(config_path), &console_options, &error)) {
+    std::cerr << "operator_client: bad configuration: " << error << "\n";
+    return 2;
+  }
+  if (app.count("--display") == 0 && config.has_display_mode()) display = config.display_mode();
   console_options.client_id = client_id;
   console_options.pilot = role == "pilot";
   console_options.headless = headless;
   console_options.show_calibration_panel = calibration_panel;
-  console_options.calibration_path = calibration_path;
+  if (!calibration_path.empty()) console_options.calibration_path = calibration_path;
   if (!render::ParseDisplayMode(display, &console_options.mode)) {
     std::cerr << "operator_client: unknown display mode '" << display << "'\n";
     return 2;
   }
-  std::string error;
   if (!calibration_path.empty() &&
       !math::LoadCalibrationProfile(calibration_path, &console_options.calibration, &error)) {
     std::cerr << "operator_client: bad calibration profile: " << error << "\n";

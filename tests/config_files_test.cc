@@ -10,6 +10,7 @@
 
 #include "common/config/config_loader.h"
 #include "common/math/calibration_io.h"
+#include "operator_client/client_config.pb.h"
 #include "robot_server/camera/camera_config.pb.h"
 #include "robot_server/camera/camera_factory.h"
 #include "robot_server/drive/drive_config.h"
@@ -66,6 +67,14 @@ bool LoadShippedConfig(const std::string& name, const std::string& path, std::st
   if (StartsWith(name, "sim_")) {
     sim::proto::SimConfig c;
     return sim::LoadSimConfig(path, &c, error);
+  }
+  if (StartsWith(name, "client_")) {
+    client::ClientConfig c;
+    if (!LoadTextConfig(path, &c, error)) return false;
+    math::LaserCameraCalibration calibration;
+    const std::string dir = path.substr(0, path.rfind('/'));
+    return !c.has_calibration_profile() ||
+           math::LoadCalibrationProfile(dir + "/" + c.calibration_profile(), &calibration, error);
   }
   if (StartsWith(name, "lms200_")) {
     laser::Lms200Config c;

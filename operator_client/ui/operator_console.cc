@@ -68,7 +68,78 @@ OperatorConsole::OperatorConsole(const ConsoleOptions& options, Window* window,
       clock_(clock),
       mapper_(options.drive) {}
 
-OperatorConsole::~OperatorConsole() = default;
+OperatorConsole::~OperatorConsole() {
+  if (edge_textures_[0] != 0) glDeleteTextures(2, edge_textures_);
+}
+
+unsigned OperatorConsole::UploadTexture(const cv::Mat& image, unsigned texture) {
+  if (texture == 0) glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, static_cast<GLint>(image.step / image.elemSize()));
+  const GLenum format = image.channels() == 1 ? GL_RED : GL_BGR;
+  glTexImage2D(GL_TEXTURE_2D, 0, image.channels() == 1 ? GL_R8 : GL_RGB8, image.cols, image.rows,
+               0, format, GL_UNSIGNED_BYTE, image.data);
+  if (image.channels() == 1) {
+    const GLint swizzle[] = {GL_RED, GL_RED, GL_RED, GL_ONE};
+    glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, swizzle);
+  }
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  return texture;
+}
+
+void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
+  if (!options_.vision_enabled) {
+    shown_pair_ = latest;
+    shown_result_.reset();
+    in_flight_.clear();
+    return;
+  }
+  // Camera models are shared with the worker (its ray cache) until the calibration changes.
+  const bool calibration_changed =
+      !left_model_ || math::ToProto(models_calibration_).SerializeAsString() !=
+                          math::ToProto(options_.calibration).SerializeAsString();
+  if (calibration_changed) {
+    models_calibration_ = options_.calibration;
+    left_model_ = std::make_shared<const math::CameraModel>(options_.calibration, math::Eye::kLeft);
+    right_model_ =
+        std::make_shared<const math::CameraModel>(options_.calibration, math::Eye::kRight);
+  }
+  if (latest && latest->sequence != submitted_pair_) {
+    submitted_pair_ = latest->sequence;
+    vision::VisionInput input;
+    input.stamp = latest->stamp;
+    input.sequence = latest->sequence;
+    input.left = latest->left;
+    input.right = latest->right;
+    if (auto scan = robot_->NearestScan(latest->stamp)) {
+      input.scan = *scan;
+      fusion::ArFeatures features;
+      builder_->Build(*scan, &features);
+      for (const fusion::ScanPointLabel& p : features.points) {
+        input.potential_outliers.push_back(p.potential_outlier);
+      }
+    }
+    input.left_camera = left_model_;
+    input.right_camera = right_model_;
+    edge_worker_->Submit(std::move(input));
+    in_flight_[latest->sequence] = *latest;
+    while (in_flight_.size() > 4) in_flight_.erase(in_flight_.begin());
+  }
+  // Show the newest pair whose edge result is ready: overlay and image stay matched.
+  const std::shared_ptr<const vision::VisionResult> result = edge_worker_->LatestResult();
+  if (result) {
+    auto it = in_flight_.find(result->sequence);
+    if (it != in_flight_.end()) {
+      shown_pair_ = it->second;
+      shown_result_ = result->ok ? result : nullptr;
+      in_flight_.erase(in_flight_.begin(), std::next(it));
+    }
+  }
+  if (!shown_pair_) shown_pair_ = latest;  // nothing processed yet
+}
 
 bool OperatorConsole::Init(std::string* error) {
   if (!eyes_[0].Init(error) || !eyes_[1].Init(error) || !compositor_.Init(error)) return false;
@@ -77,6 +148,8 @@ bool OperatorConsole::Init(std::string* error) {
   if (!options_.calibration.IsValid(error)) return false;
   imgui_ = std::make_unique<ImGuiLayer>(window_->get());
   last_frame_start_ = clock_->SteadyNow();
+  if (!options_.vision.IsValid(error)) return false;
+  edge_worker_ = std::make_unique<vision::EdgeWorker>(options_.vision);
   want_control_ = options_.pilot;
   next_control_request_ = clock_->SteadyNow();
   return true;
@@ -104,6 +177,8 @@ void OperatorConsole::HandleInput() {
     if (keys.Pressed(w, GLFW_KEY_C)) options_.show_calibration_panel = !options_.show_calibration_panel;
     if (keys.Pressed(w, GLFW_KEY_H)) options_.show_hud = !options_.show_hud;
     if (keys.Pressed(w, GLFW_KEY_M)) options_.show_map = !options_.show_map;
+    if (keys.Pressed(w, GLFW_KEY_E)) options_.vision_enabled = !options_.vision_enabled;
+    if (keys.Pressed(w, GLFW_KEY_V)) show_edge_view_ = !show_edge_view_;
     for (int i = 0; i < 9; ++i) {
       if (keys.Pressed(w, GLFW_KEY_1 + i)) options_.mode = kModes[i];
     }
@@ -173,6 +248,14 @@ void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
     Append(features->vertical_lines, &overlay->lines);
     overlay->points = features->laser_points;
   }
+  // Possible obstacles the laser missed (NEPs much nearer than the laser point): magenta dots.
+  if (shown_result_) {
+    for (const vision::PossibleObstacle& o : shown_result_->classification.possible_obstacles) {
+      overlay->points.Add(static_cast<float>(o.floor_point_laser.x()),
+                          static_cast<float>(o.floor_point_laser.y()),
+                          static_cast<float>(o.floor_point_laser.z()), {1.f, 0.f, 1.f, 1.f});
+    }
+  }
   if (drive_.enable) {
     fusion::PredictedPathOptions path = options_.path;
     path.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
@@ -184,14 +267,20 @@ bool OperatorConsole::Frame() {
   Window::PollEvents();
   ManageLease(robot_->Snapshot());
   HandleInput();
-  const std::optional<client::DecodedStereoPair> pair = video_->Latest();
+  UpdateVision(video_->Latest());
+  const std::optional<client::DecodedStereoPair>& pair = shown_pair_;
   const bool new_pair = pair && pair->sequence != last_pair_;
   if (options_.headless && !new_pair) return false;
   const SteadyTime start = clock_->SteadyNow();
 
   const client::RobotSnapshot robot = robot_->Snapshot();
-  const std::optional<LaserScan> scan =
-      pair ? robot_->NearestScan(pair->stamp) : robot.latest_scan;
+  std::optional<LaserScan> scan = pair ? robot_->NearestScan(pair->stamp) : robot.latest_scan;
+  // With an edge result for this very pair, draw the corrected scan (NEP-corrected points,
+  // confirmed outliers removed).
+  if (shown_result_ && pair && shown_result_->sequence == pair->sequence &&
+      !shown_result_->classification.corrected_scan.ranges_m.empty()) {
+    scan = shown_result_->classification.corrected_scan;
+  }
   render::OverlayGeometry overlay;
   fusion::ArFeatures features;
   BuildOverlay(scan, &overlay, &features);
@@ -235,6 +324,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
   if (options_.show_hud) DrawHud(robot, pair);
   if (options_.show_map) DrawMap(robot, features);
   if (options_.show_calibration_panel) DrawCalibrationPanel();
+  if (show_edge_view_) DrawEdgeView();
   if (show_help_) DrawHelp();
 }
 
@@ -485,6 +575,49 @@ void OperatorConsole::DrawCalibrationPanel() {
   ImGui::End();
 }
 
+void OperatorConsole::DrawEdgeView() {
+  ImGui::SetNextWindowPos(ImVec2(20, 60), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Edges (thesis fig. 29)", &show_edge_view_, ImGuiWindowFlags_AlwaysAutoResize);
+  vision::EdgeDetectorOptions& e = options_.vision.edges;
+  bool changed = false;
+  changed |= ImGui::SliderInt("lowTh", &e.low_threshold, 0, 254);
+  changed |= ImGui::SliderInt("highTh", &e.high_threshold, 1, 255);
+  float th1 = static_cast<float>(e.canny_threshold1);
+  float th2 = static_cast<float>(e.canny_threshold2);
+  changed |= ImGui::SliderFloat("th1", &th1, 0, 500, "%.0f");
+  changed |= ImGui::SliderFloat("th2", &th2, 0, 800, "%.0f");
+  float edge_th = static_cast<float>(options_.vision.classifier.edge_threshold_m);
+  changed |= ImGui::SliderFloat("edgeTh [m]", &edge_th, 0.02f, 0.5f, "%.2f");
+  ImGui::Checkbox("edge processing (E)", &options_.vision_enabled);
+  if (changed) {
+    vision::VisionOptions next = options_.vision;
+    next.edges.canny_threshold1 = th1;
+    next.edges.canny_threshold2 = th2;
+    next.classifier.edge_threshold_m = edge_th;
+    std::string error;
+    if (edge_worker_->SetOptions(next, &error)) {
+      options_.vision = next;
+      status_line_.clear();
+    } else {
+      status_line_ = "edges: " + error;
+    }
+  }
+  if (shown_result_ && !shown_result_->left_edges.edges.empty()) {
+    edge_textures_[0] = UploadTexture(shown_result_->left_edges.stretched_grey, edge_textures_[0]);
+    edge_textures_[1] = UploadTexture(shown_result_->left_edges.edges, edge_textures_[1]);
+    const ImVec2 size(320, 240);
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(edge_textures_[0])), size);
+    ImGui::SameLine();
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(edge_textures_[1])), size);
+    const auto& c = shown_result_->classification;
+    ImGui::Text("NEPs: %d corrected, %d possible obstacles; %.1f ms", c.corrected, c.nearer,
+                ToSeconds(shown_result_->processing_time) * 1e3);
+  } else {
+    ImGui::TextUnformatted("no edge result yet");
+  }
+  ImGui::End();
+}
+
 void OperatorConsole::DrawHelp() {
   ImGui::SetNextWindowPos(ImVec2(240, 120), ImGuiCond_FirstUseEver);
   ImGui::Begin("Help", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
@@ -497,6 +630,7 @@ void OperatorConsole::DrawHelp() {
       "1..9            display mode (mono L/R, anaglyph, colour anaglyph,\n"
       "                sbs, sbs-half, top-bottom, interlaced, quad-buffer)\n"
       "C               calibration and AR panel\n"
+      "E / V           edge processing on/off / edge view (thresholds)\n"
       "H / M           HUD / laser map\n"
       "Esc             quit");
   ImGui::End();

@@ -6,6 +6,7 @@
 // decoded pair from StereoReceiver and the latest robot state from RobotState.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
@@ -22,6 +23,8 @@
 #include "operator_client/ui/imgui_layer.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/video/stereo_receiver.h"
+#include "operator_client/vision/edge_worker.h"
+#include "operator_client/vision/vision_pipeline.h"
 
 namespace mostar::ui {
 
@@ -38,6 +41,10 @@ struct ConsoleOptions {
   fusion::ArFeatureOptions ar;
   fusion::PredictedPathOptions path;
   DriveLimits drive;
+  // Edge processing (thesis 8, 9.2): NEPs correct the overlay, mark obstacles the laser
+  // missed and confirm outliers. Toggled with E; thresholds in the edge view (V).
+  bool vision_enabled = true;
+  vision::VisionOptions vision;
   render::EyeAlignment left_alignment;   // thesis 9.1 stereo alignment (image offsets, crop)
   render::EyeAlignment right_alignment;
 };
@@ -70,7 +77,11 @@ class OperatorConsole {
   void DrawMap(const client::RobotSnapshot& robot, const fusion::ArFeatures& features);
   void DrawLabels(const fusion::ArFeatures& features, int fb_w, int fb_h);
   void DrawCalibrationPanel();
+  void DrawEdgeView();
   void DrawHelp();
+  // Hands the new pair to the edge worker; returns the pair (and its result) to display now.
+  void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
+  unsigned UploadTexture(const cv::Mat& image, unsigned texture);
 
   ConsoleOptions options_;
   Window* window_;
@@ -86,6 +97,17 @@ class OperatorConsole {
   std::optional<DriveOutput> scripted_drive_;
   DriveOutput drive_;
   void ManageLease(const client::RobotSnapshot& robot);
+
+  std::unique_ptr<vision::EdgeWorker> edge_worker_;
+  std::shared_ptr<const math::CameraModel> left_model_;
+  std::shared_ptr<const math::CameraModel> right_model_;
+  math::LaserCameraCalibration models_calibration_;
+  uint64_t submitted_pair_ = 0;
+  std::map<uint64_t, client::DecodedStereoPair> in_flight_;  // submitted, awaiting a result
+  std::optional<client::DecodedStereoPair> shown_pair_;       // what is displayed
+  std::shared_ptr<const vision::VisionResult> shown_result_;  // its edge result, if any
+  bool show_edge_view_ = false;
+  unsigned edge_textures_[2] = {0, 0};
 
   bool show_help_ = false;
   bool want_control_ = false;     // pilots ask for the lease until they hold it
