@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <iostream>
 #include <map>
@@ -431,6 +432,8 @@ int Run(int argc, char** argv) {
       }
     }
     const drive::GovernorOutput out = governor.Update();
+    trace.Add("drive_out_mmps", clock->Now(),
+              static_cast<uint64_t>(std::llround(std::abs(out.linear_mps) * 1000)));
     if (!motors->SetVelocity(out.linear_mps, out.angular_radps, &error)) {
       ++motor_errors;
       MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "motors: " << error;
@@ -447,6 +450,7 @@ int Run(int argc, char** argv) {
       next_lease = now + lease_period;
       const ControlLease current = lease.lease();
       node->PublishLease(current);
+      trace.Add(("lease:" + current.holder_id).c_str(), current.stamp, current.lease_sequence);
       if (rec) rec->Write(current);
     }
     if (now >= next_health) {

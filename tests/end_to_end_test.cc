@@ -13,35 +13,14 @@
 
 #include "common/dds/domain.h"
 #include "common/testing/subprocess.h"
+#include "common/testing/trace.h"
 
 namespace mostar {
 namespace {
 
 using testing::Subprocess;
 
-struct TraceLine {
-  std::string topic;
-  int64_t stamp_ns = 0;
-  uint64_t sequence = 0;
-};
-
-std::vector<TraceLine> ReadTrace(const std::string& path) {
-  std::vector<TraceLine> lines;
-  std::istringstream in(testing::ReadFile(path));
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    TraceLine t;
-    std::string stamp, sequence;
-    if (std::getline(fields, t.topic, ',') && std::getline(fields, stamp, ',') &&
-        std::getline(fields, sequence)) {
-      t.stamp_ns = std::stoll(stamp);
-      t.sequence = std::stoull(sequence);
-      lines.push_back(t);
-    }
-  }
-  return lines;
-}
+using testing::ReadTrace;
 
 std::string Bin(const char* name) { return std::string(MOSTAR_TEST_BINARY_DIR) + "/" + name; }
 std::string Source(const char* path) {

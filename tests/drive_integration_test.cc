@@ -1,0 +1,153 @@
+// Drive safety across processes: the real robot_server (simulated robot) and real operator
+// clients on loopback DDS. Who drives is decided by the lease; a pilot that disappears stops
+// the robot within the deadman period plus the deceleration ramp.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "common/dds/domain.h"
+#include "common/testing/subprocess.h"
+#include "common/testing/trace.h"
+
+namespace mostar {
+namespace {
+
+using testing::ReadTrace;
+using testing::Subprocess;
+using testing::TraceLine;
+
+std::string Bin(const char* name) { return std::string(MOSTAR_TEST_BINARY_DIR) + "/" + name; }
+std::string Source(const char* path) { return std::string(MOSTAR_TEST_SOURCE_DIR) + "/" + path; }
+
+class DriveIntegrationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::getenv("DISPLAY") == nullptr) {
+      GTEST_SKIP() << "no X display: run the suite under xvfb-run (as deploy/test.sh does)";
+    }
+    dir_ = testing::MakeTempDir("mostar_drive_");
+    ASSERT_FALSE(dir_.empty());
+    domain_ = std::to_string(dds::PerProcessDomainId());
+  }
+
+  void StartServer(Subprocess* server) {
+    std::string error;
+    ASSERT_TRUE(server->Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+                               Source("deploy/config/server_sim.pbtxt"), "--sim",
+                               Source("deploy/scenes/open_room.pbtxt"), "--trace",
+                               dir_ + "/server.csv"},
+                              dir_ + "/server.log", &error))
+        << error;
+  }
+
+  void StartClient(Subprocess* client, const std::string& id, const std::string& role,
+                   double duration_s, const std::string& drive) {
+    std::vector<std::string> argv = {Bin("operator_client/operator_client"), "--headless",
+                                     "--domain", domain_, "--id", id, "--role", role,
+                                     "--duration", std::to_string(duration_s)};
+    if (!drive.empty()) {
+      argv.push_back("--drive");
+      argv.push_back(drive);
+    }
+    std::string error;
+    ASSERT_TRUE(client->Start(argv, dir_ + "/" + id + ".log", &error)) << error;
+  }
+
+  // Lease holders in order of change, from the server trace.
+  std::vector<std::string> LeaseHistory() {
+    std::vector<std::string> holders;
+    for (const TraceLine& t : ReadTrace(dir_ + "/server.csv")) {
+      if (t.topic.rfind("lease:", 0) != 0) continue;
+      const std::string holder = t.topic.substr(6);
+      if (holders.empty() || holders.back() != holder) holders.push_back(holder);
+    }
+    return holders;
+  }
+
+  std::string dir_;
+  std::string domain_;
+};
+
+TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserver) {
+  Subprocess server;
+  StartServer(&server);
+  Subprocess observer, weak, strong;
+  StartClient(&observer, "observer", "observer", 16, "");
+  StartClient(&weak, "operator", "pilot", 16, "");  // strength 10 in server_sim.pbtxt
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  StartClient(&strong, "operator-2", "pilot", 4, "");  // strength 20: takes over, then leaves
+  ASSERT_TRUE(strong.Wait(std::chrono::seconds(60)).has_value());
+  ASSERT_TRUE(weak.Wait(std::chrono::seconds(60)).has_value());
+  ASSERT_TRUE(observer.Wait(std::chrono::seconds(60)).has_value());
+  server.Signal(SIGTERM);
+  ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value());
+
+  const std::vector<std::string> history = LeaseHistory();
+  std::string joined;
+  for (const auto& h : history) joined += "[" + h + "]";
+  // Nobody, then the weak pilot, the strong one takes over, leaves (lease freed), the weak pilot
+  // asks again and gets it back.
+  auto find = [&](const std::string& holder, size_t from) {
+    for (size_t i = from; i < history.size(); ++i) {
+      if (history[i] == holder) return i;
+    }
+    return history.size();
+  };
+  const size_t first_weak = find("operator", 0);
+  const size_t strong_at = find("operator-2", first_weak);
+  const size_t weak_again = find("operator", strong_at);
+  EXPECT_LT(first_weak, history.size()) << joined;
+  EXPECT_LT(strong_at, history.size()) << joined;
+  EXPECT_LT(weak_again, history.size()) << joined;
+  EXPECT_EQ(find("observer", 0), history.size()) << "an observer held the lease: " << joined;
+}
+
+TEST_F(DriveIntegrationTest, KilledPilotStopsTheRobotWithinDeadmanAndRamp) {
+  Subprocess server;
+  StartServer(&server);
+  Subprocess pilot;
+  StartClient(&pilot, "operator", "pilot", 60, "0.3,0");
+  // Drive for a while (lease, arming, then ~2 s of motion), then kill the pilot without any
+  // goodbye.
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  pilot.Signal(SIGKILL);
+  ASSERT_TRUE(pilot.Wait(std::chrono::seconds(10)).has_value());
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  server.Signal(SIGTERM);
+  ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value());
+
+  int64_t last_command_ns = 0;
+  for (const TraceLine& t : ReadTrace(dir_ + "/server.csv")) {
+    if (t.topic == "command") last_command_ns = std::max(last_command_ns, t.stamp_ns);
+  }
+  ASSERT_GT(last_command_ns, 0) << "no command was accepted: " << testing::ReadFile(dir_ + "/server.log");
+  // Output speed over time after the last accepted command (robot clock = command clock here).
+  int64_t first_drop_ns = -1;
+  int64_t stopped_ns = -1;
+  uint64_t speed_at_cut = 0;
+  for (const TraceLine& t : ReadTrace(dir_ + "/server.csv")) {
+    if (t.topic != "drive_out_mmps") continue;
+    if (t.stamp_ns <= last_command_ns) {
+      speed_at_cut = t.sequence;
+      continue;
+    }
+    if (first_drop_ns < 0 && t.sequence < speed_at_cut) first_drop_ns = t.stamp_ns;
+    if (stopped_ns < 0 && t.sequence == 0) stopped_ns = t.stamp_ns;
+  }
+  // The governor may already have slowed down for obstacles ahead; it must be moving.
+  ASSERT_GT(speed_at_cut, 50u) << "the robot was not driving when the pilot died";
+  ASSERT_GT(first_drop_ns, 0);
+  ASSERT_GT(stopped_ns, 0) << "the robot never stopped";
+  const double deadman_s = 0.25, cycle_s = 0.02, decel_mps2 = 1.0;
+  // Command stamps are taken before sending; allow the 50 ms command period on top.
+  EXPECT_LE((first_drop_ns - last_command_ns) * 1e-9, deadman_s + cycle_s + 0.05);
+  EXPECT_LE((stopped_ns - last_command_ns) * 1e-9,
+            deadman_s + speed_at_cut * 1e-3 / decel_mps2 + 2 * cycle_s + 0.05);
+}
+
+}  // namespace
+}  // namespace mostar
