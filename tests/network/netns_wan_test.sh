@@ -37,15 +37,24 @@ if [ "$emulated" = 1 ]; then
   grep -q ready "$work/netem.log" || { cat "$work/netem.log"; echo "FAIL: netem_relay"; exit 1; }
 fi
 sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
+# The shipped simulator configuration, with the test-pattern video reduced for the emulated
+# 8 Mbit/s link (VIDEO_HZ frames/s per eye, JPEG quality VIDEO_QUALITY): Fast DDS has no
+# congestion control, and video faster than a TCP link stalls every stream (docs/networking.md).
+video_hz=${VIDEO_HZ:-30}; video_quality=${VIDEO_QUALITY:-80}
+[ "$emulated" = 0 ] || { video_hz=${VIDEO_HZ:-10}; video_quality=${VIDEO_QUALITY:-50}; }
+sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" -e "s|jpeg_quality: [0-9]*|jpeg_quality: $video_quality|" \
+    -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
+    "$src/deploy/config/server_sim.pbtxt" > "$work/server.pbtxt"
 domain=$((100 + $$ % 100))
 
 ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
-  --config "$src/deploy/config/server_sim.pbtxt" --source test_pattern \
+  --config "$work/server.pbtxt" --source test_pattern \
   --trace "$work/server.csv" > "$work/server.log" 2>&1 &
 pids+=($!)
 sleep 1
 set +e
-ip netns exec "${prefix}_operator" xvfb-run -a "$operator_client" --headless --domain "$domain" \
+# A bounded run: a client stuck in a blocked DDS write must fail the test, not hang it.
+timeout -k 5 $((duration + 40)) ip netns exec "${prefix}_operator" xvfb-run -a "$operator_client" --headless --domain "$domain" \
   --dds-profile "$work/wan.xml" --id operator --duration "$duration" --drive 0.2,0 \
   --calibration "$src/deploy/config/calibration_sim.pbtxt" \
   --trace "$work/client.csv" > "$work/client.log" 2>&1
