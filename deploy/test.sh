@@ -12,13 +12,9 @@ JOBS=${JOBS:-$(nproc)}
 cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DMOSTAR_SANITIZE="${MOSTAR_SANITIZE:-}" >/dev/null
 cmake --build "$BUILD_DIR" -j "$JOBS"
-run_tests() {
-  ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 300 "$@"
-}
+CTEST=(ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 300 "$@")
 if [ -z "${DISPLAY:-}" ]; then
-  export -f run_tests
-  export BUILD_DIR JOBS
-  xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" bash -c 'run_tests "$@"' _ "$@"
+  xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "${CTEST[@]}"
 else
-  run_tests "$@"
+  "${CTEST[@]}"
 fi
