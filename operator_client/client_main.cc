@@ -99,7 +99,9 @@ int Run(int argc, char** argv) {
   app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
   app.add_option("--id", client_id, "this client's id (shown in the lease)");
   app.add_option("--role", role, "pilot | observer")->check(CLI::IsMember({"pilot", "observer"}));
-  app.add_option("--strength", strength, "command ownership strength (pilots)")
+  app.add_option("--strength", strength,
+                 "DDS ownership strength of the command writer; use the strength the robot's "
+                 "role table gives this id")
       ->check(CLI::Range(1, 1000));
   app.add_option("--display", display,
                  "mono-left | mono-right | anaglyph | anaglyph-color | sbs | sbs-half | "
@@ -271,7 +273,11 @@ int Run(int argc, char** argv) {
   std::cout << "report: rendered_frames=" << console.rendered_pairs()
             << " pairs_decoded=" << stats.pairs_decoded << " images=" << stats.images
             << " broken_images=" << stats.broken_images << " scans=" << robot.Snapshot().scans
-            << " commands_sent=" << commands.commands_sent() << "\n";
+            << " commands_sent=" << commands.commands_sent() << " pair_rate_hz=" << stats.pair_rate_hz
+            << " display_age_ms_p50=" << console.DisplayAgePercentileMs(50)
+            << " display_age_ms_p95=" << console.DisplayAgePercentileMs(95)
+            << " frame_time_ms_p50=" << console.FrameTimePercentileMs(50)
+            << " frame_time_ms_p95=" << console.FrameTimePercentileMs(95) << "\n";
   return 0;
 }
 

@@ -45,9 +45,10 @@ class DriveIntegrationTest : public ::testing::Test {
   }
 
   void StartClient(Subprocess* client, const std::string& id, const std::string& role,
-                   double duration_s, const std::string& drive) {
+                   double duration_s, const std::string& drive, int strength = 10) {
     std::vector<std::string> argv = {Bin("operator_client/operator_client"), "--headless",
                                      "--domain", domain_, "--id", id, "--role", role,
+                                     "--strength", std::to_string(strength),
                                      "--duration", std::to_string(duration_s)};
     if (!drive.empty()) {
       argv.push_back("--drive");
@@ -76,10 +77,11 @@ TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserve
   Subprocess server;
   StartServer(&server);
   Subprocess observer, weak, strong;
-  StartClient(&observer, "observer", "observer", 16, "");
-  StartClient(&weak, "operator", "pilot", 16, "");  // strength 10 in server_sim.pbtxt
+  StartClient(&observer, "observer", "observer", 22, "");
+  StartClient(&weak, "operator", "pilot", 22, "", 10);  // strength 10 in server_sim.pbtxt
   std::this_thread::sleep_for(std::chrono::seconds(5));
-  StartClient(&strong, "operator-2", "pilot", 4, "");  // strength 20: takes over, then leaves
+  // Strength 20 (as in the role table): takes over, then leaves.
+  StartClient(&strong, "operator-2", "pilot", 8, "", 20);
   ASSERT_TRUE(strong.Wait(std::chrono::seconds(60)).has_value());
   ASSERT_TRUE(weak.Wait(std::chrono::seconds(60)).has_value());
   ASSERT_TRUE(observer.Wait(std::chrono::seconds(60)).has_value());

@@ -32,6 +32,11 @@ void CommandSender::SetDrive(const DriveOutput& drive) {
   drive_ = drive;
 }
 
+void CommandSender::SetActive(bool active) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  active_ = active;
+}
+
 void CommandSender::RequestControl(bool take) {
   std::lock_guard<std::mutex> lock(mutex_);
   pending_control_ = take;
@@ -44,11 +49,13 @@ void CommandSender::SendEmergencyStop(bool engage) {
 
 void CommandSender::Tick() {
   DriveOutput drive;
+  bool active = true;
   std::optional<bool> control;
   std::optional<bool> estop;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     drive = drive_;
+    active = active_;
     control.swap(pending_control_);
     estop.swap(pending_estop_);
   }
@@ -57,7 +64,7 @@ void CommandSender::Tick() {
   if (control && sinks_.control) {
     sinks_.control({now, options_.client_id, options_.strength, *control});
   }
-  if (options_.pilot && sinks_.command) {
+  if (options_.pilot && active && sinks_.command) {
     VelocityCommand cmd;
     cmd.stamp = now;
     cmd.sequence = ++sequence_;

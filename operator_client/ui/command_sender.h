@@ -44,6 +44,9 @@ class CommandSender {
   void Stop();
 
   void SetDrive(const DriveOutput& drive);
+  // Velocity commands are written only while active (the pilot wants or holds control): an
+  // idle pilot must not occupy the exclusively owned command topic.
+  void SetActive(bool active);
   void RequestControl(bool take);
   void SendEmergencyStop(bool engage);
   uint64_t commands_sent() const { return commands_sent_.load(); }
@@ -56,6 +59,7 @@ class CommandSender {
   const Clock* clock_;
   std::mutex mutex_;
   DriveOutput drive_;
+  bool active_ = true;
   std::optional<bool> pending_control_;
   std::optional<bool> pending_estop_;
   uint64_t sequence_ = 0;

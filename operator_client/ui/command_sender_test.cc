@@ -71,6 +71,20 @@ TEST(CommandSenderTest, ObserverSendsNoCommandsButPings) {
   EXPECT_EQ(rec.pings[1].sequence, 2u);
 }
 
+TEST(CommandSenderTest, InactivePilotWritesNoCommands) {
+  FakeClock clock;
+  Recorder rec;
+  CommandSender sender({"pilot-a", true, 10}, rec.Sinks(), &clock);
+  sender.SetActive(false);
+  sender.SetDrive({0.4, 0, true});
+  sender.Tick();
+  EXPECT_TRUE(rec.commands.empty());
+  sender.SetActive(true);
+  sender.Tick();
+  ASSERT_EQ(rec.commands.size(), 1u);
+  EXPECT_EQ(rec.commands[0].sequence, 1u);
+}
+
 TEST(CommandSenderTest, ControlRequestsAndEstopAreSentOnce) {
   FakeClock clock;
   Recorder rec;

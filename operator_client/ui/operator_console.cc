@@ -4,6 +4,7 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -223,6 +224,7 @@ void OperatorConsole::HandleInput() {
     drive_ = options_.pilot ? mapper_.Map(input) : DriveOutput{};
   }
   commands_->SetDrive(drive_);
+  commands_->SetActive(want_control_ || holding_lease_);
 }
 
 void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
@@ -310,10 +312,30 @@ bool OperatorConsole::Frame() {
     Time now = clock_->Now();
     if (robot.clock.known) now = robot.clock.ToResponderTime(now);
     display_age_ms_ = ToSeconds(now - pair->stamp) * 1e3;
+    if (display_ages_ms_.size() < 100000) display_ages_ms_.push_back(display_age_ms_);
   }
   window_->SwapBuffers();
   frame_time_ms_ = ToSeconds(clock_->SteadyNow() - start) * 1e3;
+  if (new_pair && frame_times_ms_.size() < 100000) frame_times_ms_.push_back(frame_time_ms_);
   return new_pair;
+}
+
+namespace {
+double Percentile(std::vector<double> values, double percentile) {
+  if (values.empty()) return 0;
+  const size_t index = std::min(values.size() - 1, static_cast<size_t>(percentile / 100.0 *
+                                                                        static_cast<double>(values.size())));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index), values.end());
+  return values[index];
+}
+}  // namespace
+
+double OperatorConsole::DisplayAgePercentileMs(double percentile) const {
+  return Percentile(display_ages_ms_, percentile);
+}
+
+double OperatorConsole::FrameTimePercentileMs(double percentile) const {
+  return Percentile(frame_times_ms_, percentile);
 }
 
 void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,

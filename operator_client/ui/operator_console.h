@@ -11,6 +11,7 @@
 #include <opencv2/core/mat.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/math/camera_model.h"
 #include "operator_client/fusion/ar_features.h"
@@ -62,6 +63,10 @@ class OperatorConsole {
   // The last composed frame that showed a new pair (BGR8), for --screenshot.
   const cv::Mat& last_frame() const { return last_frame_; }
   uint64_t rendered_pairs() const { return rendered_pairs_; }
+  // Percentile (0..100) of the capture-to-display age and of the render time of frames that
+  // showed a new pair, in ms; 0 when none.
+  double DisplayAgePercentileMs(double percentile) const;
+  double FrameTimePercentileMs(double percentile) const;
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (deadman up for 0.5 s), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
@@ -120,6 +125,8 @@ class OperatorConsole {
   uint64_t rendered_pairs_ = 0;
   cv::Mat last_frame_;
   double frame_time_ms_ = 0;
+  std::vector<double> display_ages_ms_;   // per shown pair
+  std::vector<double> frame_times_ms_;    // per frame that showed a new pair
   double display_age_ms_ = 0;
   SteadyTime last_frame_start_;
 };

@@ -30,8 +30,10 @@ duration=10
 if [ "$emulated" = 1 ]; then
   robot_ip=10.232.0.1
   duration=16
-  "$netem_relay" --netns-a "${prefix}_robot" --netns-b "${prefix}_operator" --delay-ms 50 \
-    --jitter-ms 5 --loss 0.01 --rate-kbit 8000 --duration-s 120 > "$work/netem.log" 2>&1 &
+  # NETEM_ARGS overrides the path model (e.g. "--delay-ms 50" alone).
+  # shellcheck disable=SC2086
+  "$netem_relay" --netns-a "${prefix}_robot" --netns-b "${prefix}_operator" \
+    ${NETEM_ARGS:---delay-ms 50 --jitter-ms 5 --loss 0.01 --rate-kbit 8000} --duration-s 120 > "$work/netem.log" 2>&1 &
   pids+=($!)
   for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
   grep -q ready "$work/netem.log" || { cat "$work/netem.log"; echo "FAIL: netem_relay"; exit 1; }
