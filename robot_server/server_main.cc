@@ -99,6 +99,7 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
       settings->odometry.track_width_m = drive.track_width_m;
       settings->odometry.ticks_per_turn = drive.encoder_pulses_per_turn;
       settings->odometry.counter_bits = drive.encoder_counter_bits;
+      settings->odometry.axle_x_m = drive.axle_x_m;
       devices->motors = std::make_unique<sim::SimDriveMotors>(devices->world.get(), clock);
       devices->camera = std::make_unique<sim::SimStereoCamera>(
           devices->world.get(), config.test_pattern().frame_rate_hz(), clock);

@@ -69,8 +69,9 @@ class Forwarder final : public ForwarderBase {
   }
   std::string Stats() const override {
     return std::string(topic_) + ": in=" + std::to_string(reader_.received()) +
-           " out=" + std::to_string(writer_.written()) + " refused=" +
-           std::to_string(dropped_.load()) + " observers=" + std::to_string(writer_.matched());
+           " out=" + std::to_string(writer_.written()) +
+           " refused=" + std::to_string(dropped_.load()) +
+           " observers=" + std::to_string(writer_.matched());
   }
 
  private:
@@ -115,8 +116,7 @@ int Main(int argc, char** argv) {
 
   robot_options.profile = profile;
   observer_options.profile = profile;
-  observer_options.domain_id =
-      observer_domain >= 0 ? observer_domain : robot_options.domain_id + 1;
+  observer_options.domain_id = observer_domain >= 0 ? observer_domain : robot_options.domain_id + 1;
   if (observer_options.domain_id > 232) {
     std::cerr << "mostar_relay: --observer-domain is required when the robot domain is 232\n";
     return 2;
@@ -150,12 +150,10 @@ int Main(int argc, char** argv) {
       *robot_side, *observer_side, topics::kScan, Stream::kSensor));
   forwarders.push_back(std::make_unique<Forwarder<nav_msgs::msg::dds_::Odometry_PubSubType>>(
       *robot_side, *observer_side, topics::kOdometry, Stream::kSensor));
-  forwarders.push_back(
-      std::make_unique<Forwarder<mostar_msgs::msg::dds_::RobotHealth_PubSubType>>(
-          *robot_side, *observer_side, topics::kHealth, Stream::kState));
-  forwarders.push_back(
-      std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
-          *robot_side, *observer_side, topics::kControlLease, Stream::kState));
+  forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::RobotHealth_PubSubType>>(
+      *robot_side, *observer_side, topics::kHealth, Stream::kState));
+  forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
+      *robot_side, *observer_side, topics::kControlLease, Stream::kState));
   for (const auto& f : forwarders) {
     if (!f->ok(&error)) {
       std::cerr << "mostar_relay: " << error << "\n";

@@ -18,6 +18,7 @@ bool DriveSettingsFromProto(const DriveConfig& config, DriveSettings* settings,
 
   OdometryOptions& odom = settings->odometry;
   odom.wheel_radius_m = g.wheel_radius_m();
+  odom.axle_x_m = g.axle_x_m();
   odom.track_width_m = g.track_width_m();
   odom.ticks_per_turn = g.ticks_per_turn();
   odom.counter_bits = g.counter_bits();

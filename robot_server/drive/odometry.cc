@@ -37,13 +37,24 @@ double OdometryOptions::metres_per_tick() const {
   return 2.0 * M_PI * wheel_radius_m / ticks_per_turn;
 }
 
+namespace {
+// The pose of a point at `x_m` ahead along the heading of `pose`.
+Pose2D Ahead(const Pose2D& pose, double x_m) {
+  return {pose.x_m + x_m * std::cos(pose.theta_rad), pose.y_m + x_m * std::sin(pose.theta_rad),
+          pose.theta_rad};
+}
+}  // namespace
+
 OdometryIntegrator::OdometryIntegrator(const OdometryOptions& options)
-    : options_(options), metres_per_tick_(options.metres_per_tick()) {}
+    : options_(options), metres_per_tick_(options.metres_per_tick()) {
+  axle_pose_ = Ahead(Pose2D{}, options_.axle_x_m);
+}
 
 void OdometryIntegrator::Reset(const Pose2D& pose) {
   previous_.reset();
   odometry_ = Odometry{};
   odometry_.pose = pose;
+  axle_pose_ = Ahead(pose, options_.axle_x_m);
   covariance_.fill(0.0);
 }
 
@@ -78,7 +89,7 @@ bool OdometryIntegrator::AddReading(const EncoderReading& reading) {
   const double dtheta = (ds_r - ds_l) / b;
   const double half = 0.5 * dtheta;
   const double chord = std::abs(half) < 1e-9 ? ds : ds * std::sin(half) / half;
-  const double heading = odometry_.pose.theta_rad + half;
+  const double heading = axle_pose_.theta_rad + half;
   const double c = std::cos(heading);
   const double s = std::sin(heading);
 
@@ -98,9 +109,10 @@ bool OdometryIntegrator::AddReading(const EncoderReading& reading) {
   const Mat3 next = fp * p * fp.transpose() + fw * q * fw.transpose();
   p = 0.5 * (next + next.transpose());  // keep it exactly symmetric
 
-  odometry_.pose.x_m += chord * c;
-  odometry_.pose.y_m += chord * s;
-  odometry_.pose.theta_rad = std::remainder(odometry_.pose.theta_rad + dtheta, 2.0 * M_PI);
+  axle_pose_.x_m += chord * c;
+  axle_pose_.y_m += chord * s;
+  axle_pose_.theta_rad = std::remainder(axle_pose_.theta_rad + dtheta, 2.0 * M_PI);
+  odometry_.pose = Ahead(axle_pose_, -options_.axle_x_m);
   odometry_.linear_mps = ds / dt_s;
   odometry_.angular_radps = dtheta / dt_s;
   odometry_.stamp = reading.stamp;

@@ -29,6 +29,10 @@ namespace mostar::drive {
 
 struct OdometryOptions {
   double wheel_radius_m = 0.10;           // rolling radius of both drive wheels
+  // Where the wheel axle's midpoint (the point the differential drive turns about) lies in
+  // base_link (x forward from the point under the laser; negative = behind the laser). The
+  // reported pose is base_link's; 0 puts base_link on the axle.
+  double axle_x_m = 0.0;
   double track_width_m = 0.50;            // distance between the wheel contact points
   double ticks_per_turn = 500;            // encoder ticks per wheel turn
   int counter_bits = 16;                  // significant bits of the raw counters, [8, 32]
@@ -70,7 +74,8 @@ class OdometryIntegrator {
   OdometryOptions options_;
   double metres_per_tick_;
   std::optional<EncoderReading> previous_;
-  Odometry odometry_;
+  Pose2D axle_pose_;  // odom_from_axle: what the wheels integrate
+  Odometry odometry_;  // odom_from_base
   std::array<double, 9> covariance_{};
   OdometryStats stats_;
 };

@@ -1,14 +1,14 @@
 // Loads every shipped DDS XML profile file (deploy/dds/) the way common/dds/participant.cc does
 // and checks that each participant profile the programs select by role exists and carries the
 // transport and discovery settings docs/networking.md promises.
-#include <gtest/gtest.h>
-
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/rtps/transport/TCPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <gtest/gtest.h>
+
 #include <cstdlib>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,12 +50,12 @@ double Seconds(const frtps::Duration_t& d) { return d.seconds + d.nanosec * 1e-9
 // the same name, so the shipped files (which all define "robot" and "operator") cannot be
 // loaded into one process. Each check therefore runs in a child process of its own; loading the
 // same file twice in one process is fine (mostar_relay creates two participants from one file).
-#define IN_OWN_PROCESS(body)                                                      \
-  EXPECT_EXIT(                                                                    \
-      {                                                                           \
-        body;                                                                     \
-        std::exit(::testing::Test::HasFailure() ? 1 : 0);                        \
-      },                                                                          \
+#define IN_OWN_PROCESS(body)                              \
+  EXPECT_EXIT(                                            \
+      {                                                   \
+        body;                                             \
+        std::exit(::testing::Test::HasFailure() ? 1 : 0); \
+      },                                                  \
       ::testing::ExitedWithCode(0), "")
 
 class DdsProfilesTest : public ::testing::Test {
@@ -119,7 +119,8 @@ void CheckWan() {
     EXPECT_EQ(frtps::rtps::IPLocator::getPhysicalPort(*peers.begin()), 15100);
   }
 
-  const auto relay_server = Transports<TCPv4TransportDescriptor>(Load("wan.xml", "relay_observers"));
+  const auto relay_server =
+      Transports<TCPv4TransportDescriptor>(Load("wan.xml", "relay_observers"));
   ASSERT_EQ(relay_server.size(), 1u);
   ASSERT_EQ(relay_server[0]->listening_ports.size(), 1u);
   EXPECT_EQ(relay_server[0]->listening_ports[0], 15101);

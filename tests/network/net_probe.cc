@@ -96,7 +96,8 @@ int Main(int argc, char** argv) {
   app.add_option("--dds-profile", options.profile, "'loopback' or a Fast DDS XML profiles file");
   app.add_option("--profile-name", options.name, "participant profile in the XML file");
   app.add_option("--id", id, "sender id of the clock pings");
-  app.add_option("--duration-s", duration_s, "measure for this long")->check(CLI::Range(0.5, 3600.0));
+  app.add_option("--duration-s", duration_s, "measure for this long")
+      ->check(CLI::Range(0.5, 3600.0));
   app.add_option("--samples", samples_path, "write topic,receive_ns,stamp_ns per sample");
   app.add_flag("--try-command-writer", try_command_writer, "ask DDS for a cmd_vel writer");
   app.add_flag("!--no-ping", ping, "do not send clock pings");
@@ -117,17 +118,21 @@ int Main(int argc, char** argv) {
   using dds::Stream;
   auto& p = *participant;
   dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> left(
-      p, topics::kCameraLeft, Stream::kVideo,
-      [&](const dds::wire::CompressedImage& m) { recorder.Add("left", dds::FromIdl(m.header().stamp())); });
+      p, topics::kCameraLeft, Stream::kVideo, [&](const dds::wire::CompressedImage& m) {
+        recorder.Add("left", dds::FromIdl(m.header().stamp()));
+      });
   dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> right(
-      p, topics::kCameraRight, Stream::kVideo,
-      [&](const dds::wire::CompressedImage& m) { recorder.Add("right", dds::FromIdl(m.header().stamp())); });
+      p, topics::kCameraRight, Stream::kVideo, [&](const dds::wire::CompressedImage& m) {
+        recorder.Add("right", dds::FromIdl(m.header().stamp()));
+      });
   dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
-      p, topics::kScan, Stream::kSensor,
-      [&](const dds::wire::LaserScan& m) { recorder.Add("scan", dds::FromIdl(m.header().stamp())); });
+      p, topics::kScan, Stream::kSensor, [&](const dds::wire::LaserScan& m) {
+        recorder.Add("scan", dds::FromIdl(m.header().stamp()));
+      });
   dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
-      p, topics::kOdometry, Stream::kSensor,
-      [&](const dds::wire::Odometry& m) { recorder.Add("odom", dds::FromIdl(m.header().stamp())); });
+      p, topics::kOdometry, Stream::kSensor, [&](const dds::wire::Odometry& m) {
+        recorder.Add("odom", dds::FromIdl(m.header().stamp()));
+      });
   dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType> health(
       p, topics::kHealth, Stream::kState,
       [&](const dds::wire::RobotHealth& m) { recorder.Add("health", dds::FromIdl(m.stamp())); });
@@ -152,9 +157,10 @@ int Main(int argc, char** argv) {
         p, topics::kClockPing, Stream::kControl);
   }
   const std::vector<std::pair<const char*, bool>> endpoints = {
-      {"left", left.ok()},   {"right", right.ok()}, {"scan", scan.ok()}, {"odom", odom.ok()},
-      {"health", health.ok()}, {"lease", lease.ok()}, {"pong", pong.ok()},
-      {"ping", !ping_writer || ping_writer->ok()}};
+      {"left", left.ok()},     {"right", right.ok()},
+      {"scan", scan.ok()},     {"odom", odom.ok()},
+      {"health", health.ok()}, {"lease", lease.ok()},
+      {"pong", pong.ok()},     {"ping", !ping_writer || ping_writer->ok()}};
   for (const auto& [name, ok] : endpoints) {
     if (!ok) {
       std::cerr << "net_probe: cannot create the " << name << " endpoint\n";
@@ -164,7 +170,7 @@ int Main(int argc, char** argv) {
   std::string command_writer = "none";
   if (try_command_writer) {
     dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType> command(p, topics::kCommand,
-                                                                           Stream::kCommand, 1);
+                                                                            Stream::kCommand, 1);
     command_writer = command.ok() ? "ok" : "refused";
   }
 

@@ -50,9 +50,9 @@ void OnToggleOutage(int) { g_outage = !g_outage.load(); }
 struct PathModel {
   double delay_ms = 0;
   double jitter_ms = 0;
-  double loss = 0;         // probability in [0, 1]
-  double rate_kbit = 0;    // 0 = unlimited
-  double queue_ms = 200;   // bottleneck queue, in serialisation time
+  double loss = 0;        // probability in [0, 1]
+  double rate_kbit = 0;   // 0 = unlimited
+  double queue_ms = 200;  // bottleneck queue, in serialisation time
 };
 
 struct Counters {
@@ -119,8 +119,8 @@ void Forward(int in, int out, PathModel model, uint64_t seed, Counters* counters
     }
     int timeout_ms = 50;
     if (!pending.empty()) {
-      const auto wait = std::chrono::duration_cast<std::chrono::microseconds>(
-          pending.front().deliver_at - now);
+      const auto wait =
+          std::chrono::duration_cast<std::chrono::microseconds>(pending.front().deliver_at - now);
       timeout_ms = static_cast<int>(std::clamp<int64_t>((wait.count() + 999) / 1000, 0, 50));
     }
     pollfd p{in, POLLIN, 0};
@@ -141,7 +141,8 @@ void Forward(int in, int out, PathModel model, uint64_t seed, Counters* counters
       const auto serialisation = std::chrono::microseconds(
           static_cast<int64_t>(static_cast<double>(n) * 8.0 * 1000.0 / model.rate_kbit));
       const Clock::time_point start = std::max(arrival, link_free_at);
-      if (start - arrival > std::chrono::microseconds(static_cast<int64_t>(model.queue_ms * 1000))) {
+      if (start - arrival >
+          std::chrono::microseconds(static_cast<int64_t>(model.queue_ms * 1000))) {
         ++counters->queue_drops;
         continue;
       }
@@ -219,9 +220,8 @@ int Main(int argc, char** argv) {
   close(fd_b);
   for (const auto& [name, c] : {std::pair<const char*, Counters*>{"a_to_b", &a_to_b},
                                 std::pair<const char*, Counters*>{"b_to_a", &b_to_a}}) {
-    std::cout << "netem_relay: " << name << " forwarded=" << c->forwarded
-              << " lost=" << c->lost << " queue_drops=" << c->queue_drops
-              << " outage_drops=" << c->outage_drops << "\n";
+    std::cout << "netem_relay: " << name << " forwarded=" << c->forwarded << " lost=" << c->lost
+              << " queue_drops=" << c->queue_drops << " outage_drops=" << c->outage_drops << "\n";
   }
   return 0;
 }

@@ -24,6 +24,7 @@ cleanup() {
   if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
 }
 trap cleanup EXIT
+trap "exit 1" INT TERM
 "$here/netns.sh" up "$prefix"
 robot_ip=10.231.0.1
 duration=10

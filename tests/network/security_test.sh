@@ -29,6 +29,7 @@ cleanup() {
   if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
 }
 trap cleanup EXIT
+trap "exit 1" INT TERM
 ip netns add "$ns"
 ip -n "$ns" link set lo up
 ip -n "$ns" link set lo multicast on
