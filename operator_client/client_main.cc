@@ -8,9 +8,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "common/config/config_loader.h"
 #include "common/dds/domain.h"
 #include "common/dds/participant.h"
-#include "common/config/config_loader.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/math/calibration_io.h"
@@ -237,8 +237,8 @@ int Run(int argc, char** argv) {
     return 1;
   }
   if (console_options.mode == render::DisplayMode::kQuadBuffer && !window->quad_buffer()) {
-    std::cerr << "operator_client: quad-buffer stereo is not available with "
-              << window->renderer() << "; showing the left eye\n";
+    std::cerr << "operator_client: quad-buffer stereo is not available with " << window->renderer()
+              << "; showing the left eye\n";
   }
   ui::OperatorConsole console(console_options, window.get(), &video, &robot, &commands, clock);
   if (!console.Init(&error)) {
@@ -273,7 +273,8 @@ int Run(int argc, char** argv) {
   std::cout << "report: rendered_frames=" << console.rendered_pairs()
             << " pairs_decoded=" << stats.pairs_decoded << " images=" << stats.images
             << " broken_images=" << stats.broken_images << " scans=" << robot.Snapshot().scans
-            << " commands_sent=" << commands.commands_sent() << " pair_rate_hz=" << stats.pair_rate_hz
+            << " commands_sent=" << commands.commands_sent()
+            << " pair_rate_hz=" << stats.pair_rate_hz
             << " display_age_ms_p50=" << console.DisplayAgePercentileMs(50)
             << " display_age_ms_p95=" << console.DisplayAgePercentileMs(95)
             << " frame_time_ms_p50=" << console.FrameTimePercentileMs(50)

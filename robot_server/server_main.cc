@@ -18,10 +18,10 @@
 #include "common/dds/participant.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
-#include "common/time/rate_meter.h"
 #include "common/record/recording_reader.h"
 #include "common/record/recording_writer.h"
 #include "common/record/replay_player.h"
+#include "common/time/rate_meter.h"
 #include "robot_server/camera/camera_factory.h"
 #include "robot_server/camera/camera_pipeline.h"
 #include "robot_server/drive/drive_config.h"
@@ -58,8 +58,8 @@ struct Devices {
   std::unique_ptr<testpattern::KinematicRobot> pattern_robot;
   std::unique_ptr<sim::SimWorld> world;
   std::unique_ptr<sim::SimulatedLms200> sim_laser;
-  std::unique_ptr<laser::LaserScanner> laser;       // HARDWARE
-  laser::LaserScanner* scanner = nullptr;           // the laser in use, if any
+  std::unique_ptr<laser::LaserScanner> laser;  // HARDWARE
+  laser::LaserScanner* scanner = nullptr;      // the laser in use, if any
   std::unique_ptr<drive::DriveMotors> motors;
   std::unique_ptr<camera::StereoCamera> camera;
   camera::CameraPipelineOptions camera_options;
@@ -151,8 +151,8 @@ int RunReplay(const std::string& path, double rate, bool loop, RobotNode* node, 
   }
   const Clock* clock = &SystemClock::Instance();
   record::ReplayPlayer player(reader.get(), *clock, options);
-  MOSTAR_LOG(INFO) << "replaying " << path << " (robot '" << reader->info().robot_id
-                   << "') at " << rate << "x" << (loop ? ", looping" : "");
+  MOSTAR_LOG(INFO) << "replaying " << path << " (robot '" << reader->info().robot_id << "') at "
+                   << rate << "x" << (loop ? ", looping" : "");
   const SteadyTime start = clock->SteadyNow();
   uint64_t published = 0;
   while (!g_stop && !player.finished()) {
@@ -192,8 +192,9 @@ int RunReplay(const std::string& path, double rate, bool loop, RobotNode* node, 
 }
 
 int Run(int argc, char** argv) {
-  CLI::App app{"robot_server: publishes the robot's stereo frames, laser scans, odometry and "
-               "health over DDS and drives it from one pilot's velocity commands."};
+  CLI::App app{
+      "robot_server: publishes the robot's stereo frames, laser scans, odometry and "
+      "health over DDS and drives it from one pilot's velocity commands."};
   std::string config_path;
   int domain = -1;
   std::string dds_profile;
@@ -287,8 +288,8 @@ int Run(int argc, char** argv) {
       devices.pattern_robot ? devices.pattern_robot.get() : devices.motors.get();
 
   dds::ParticipantOptions dds_options;
-  dds_options.domain_id = domain >= 0 ? domain
-                                      : dds::DomainIdFromEnvironment(config.dds().domain_id());
+  dds_options.domain_id =
+      domain >= 0 ? domain : dds::DomainIdFromEnvironment(config.dds().domain_id());
   dds_options.profile = dds_profile.empty() ? config.dds().profile() : dds_profile;
   dds_options.name = "robot";
   auto participant = dds::Participant::Create(dds_options, &error);
@@ -314,8 +315,8 @@ int Run(int argc, char** argv) {
       std::lock_guard<std::mutex> lock(command_mutex);
       last_command_from[cmd.sender_id] = clock->SteadyNow();
     }
-    const std::optional<Duration> offset = node ? node->RobotMinusClient(cmd.sender_id)
-                                                : std::nullopt;
+    const std::optional<Duration> offset =
+        node ? node->RobotMinusClient(cmd.sender_id) : std::nullopt;
     const drive::CommandVerdict verdict = governor.HandleCommand(cmd, offset);
     if (verdict == drive::CommandVerdict::kAccepted) {
       trace.Add("command", cmd.stamp, cmd.sequence);

@@ -36,20 +36,28 @@ class DriveIntegrationTest : public ::testing::Test {
 
   void StartServer(Subprocess* server) {
     std::string error;
-    ASSERT_TRUE(server->Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
-                               Source("deploy/config/server_sim.pbtxt"), "--sim",
-                               Source("deploy/scenes/open_room.pbtxt"), "--trace",
-                               dir_ + "/server.csv"},
-                              dir_ + "/server.log", &error))
+    ASSERT_TRUE(
+        server->Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+                       Source("deploy/config/server_sim.pbtxt"), "--sim",
+                       Source("deploy/scenes/open_room.pbtxt"), "--trace", dir_ + "/server.csv"},
+                      dir_ + "/server.log", &error))
         << error;
   }
 
   void StartClient(Subprocess* client, const std::string& id, const std::string& role,
                    double duration_s, const std::string& drive, int strength = 10) {
-    std::vector<std::string> argv = {Bin("operator_client/operator_client"), "--headless",
-                                     "--domain", domain_, "--id", id, "--role", role,
-                                     "--strength", std::to_string(strength),
-                                     "--duration", std::to_string(duration_s)};
+    std::vector<std::string> argv = {Bin("operator_client/operator_client"),
+                                     "--headless",
+                                     "--domain",
+                                     domain_,
+                                     "--id",
+                                     id,
+                                     "--role",
+                                     role,
+                                     "--strength",
+                                     std::to_string(strength),
+                                     "--duration",
+                                     std::to_string(duration_s)};
     if (!drive.empty()) {
       argv.push_back("--drive");
       argv.push_back(drive);
@@ -126,7 +134,8 @@ TEST_F(DriveIntegrationTest, KilledPilotStopsTheRobotWithinDeadmanAndRamp) {
   for (const TraceLine& t : ReadTrace(dir_ + "/server.csv")) {
     if (t.topic == "command") last_command_ns = std::max(last_command_ns, t.stamp_ns);
   }
-  ASSERT_GT(last_command_ns, 0) << "no command was accepted: " << testing::ReadFile(dir_ + "/server.log");
+  ASSERT_GT(last_command_ns, 0) << "no command was accepted: "
+                                << testing::ReadFile(dir_ + "/server.log");
   // Output speed over time after the last accepted command (robot clock = command clock here).
   int64_t first_drop_ns = -1;
   int64_t stopped_ns = -1;

@@ -6,9 +6,9 @@
 #include <signal.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <set>
-#include <fstream>
 #include <sstream>
 
 #include "common/dds/domain.h"
@@ -23,9 +23,7 @@ using testing::Subprocess;
 using testing::ReadTrace;
 
 std::string Bin(const char* name) { return std::string(MOSTAR_TEST_BINARY_DIR) + "/" + name; }
-std::string Source(const char* path) {
-  return std::string(MOSTAR_TEST_SOURCE_DIR) + "/" + path;
-}
+std::string Source(const char* path) { return std::string(MOSTAR_TEST_SOURCE_DIR) + "/" + path; }
 
 class EndToEndTest : public ::testing::Test {
  protected:
@@ -45,15 +43,14 @@ TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
   Subprocess server;
   std::string error;
   ASSERT_TRUE(server.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
-                            Source("deploy/config/server_sim.pbtxt"), "--source",
-                            "test_pattern", "--trace", dir_ + "/server.csv"},
+                            Source("deploy/config/server_sim.pbtxt"), "--source", "test_pattern",
+                            "--trace", dir_ + "/server.csv"},
                            dir_ + "/server.log", &error))
       << error;
   Subprocess client;
   ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
-                            domain_, "--id", "operator", "--duration", "6", "--drive",
-                            "0.3,0", "--trace", dir_ + "/client.csv", "--screenshot",
-                            dir_ + "/client.png"},
+                            domain_, "--id", "operator", "--duration", "6", "--drive", "0.3,0",
+                            "--trace", dir_ + "/client.csv", "--screenshot", dir_ + "/client.png"},
                            dir_ + "/client.log", &error))
       << error;
   const std::optional<int> client_exit = client.Wait(std::chrono::seconds(60));
@@ -134,9 +131,9 @@ TEST_F(EndToEndTest, BadFlagsAndConfigGiveClearErrors) {
   EXPECT_NE(log.find("bad.pbtxt:2:1: control_period_s: 7 is outside"), std::string::npos) << log;
 
   Subprocess client;
-  ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--display", "hologram",
-                            "--headless"},
-                           dir_ + "/bad_display.log", &error));
+  ASSERT_TRUE(
+      client.Start({Bin("operator_client/operator_client"), "--display", "hologram", "--headless"},
+                   dir_ + "/bad_display.log", &error));
   code = client.Wait(std::chrono::seconds(20));
   ASSERT_TRUE(code.has_value());
   EXPECT_EQ(*code, 2);

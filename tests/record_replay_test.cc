@@ -6,8 +6,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
-#include <map>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "common/dds/domain.h"
@@ -53,8 +53,8 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
   }
   {
     Subprocess info;
-    ASSERT_TRUE(info.Start({Bin("common/record/mostar_record_info"), recording},
-                           dir_ + "/info.log", &error));
+    ASSERT_TRUE(info.Start({Bin("common/record/mostar_record_info"), recording}, dir_ + "/info.log",
+                           &error));
     const auto code = info.Wait(std::chrono::seconds(30));
     ASSERT_TRUE(code.has_value());
     const std::string summary = testing::ReadFile(dir_ + "/info.log");
@@ -77,8 +77,7 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
   Subprocess client;
   ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
                             domain_, "--role", "observer", "--id", "observer", "--duration", "8",
-                            "--trace", dir_ + "/client.csv", "--screenshot",
-                            dir_ + "/replay.png"},
+                            "--trace", dir_ + "/client.csv", "--screenshot", dir_ + "/replay.png"},
                            dir_ + "/client.log", &error));
   const auto client_code = client.Wait(std::chrono::seconds(60));
   replay.Signal(SIGTERM);

@@ -1,13 +1,13 @@
 #include "common/config/config_loader.h"
 
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
-
-#include <google/protobuf/descriptor.h>
-#include <google/protobuf/io/tokenizer.h>
-#include <google/protobuf/text_format.h>
 
 #include "common/config/options.pb.h"
 
@@ -37,8 +37,7 @@ class CollectFirstError : public google::protobuf::io::ErrorCollector {
   std::string first_;
 };
 
-bool NumericValue(const Message& message, const FieldDescriptor* field, int index,
-                  double* value) {
+bool NumericValue(const Message& message, const FieldDescriptor* field, int index, double* value) {
   const Reflection* r = message.GetReflection();
   const bool rep = field->is_repeated();
   switch (field->cpp_type()) {

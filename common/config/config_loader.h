@@ -6,9 +6,9 @@
 // Example error: "deploy/config/server.pbtxt:12:3: laser.baud: 12345 is outside [9600, 500000]".
 #pragma once
 
-#include <string>
-
 #include <google/protobuf/message.h>
+
+#include <string>
 
 namespace mostar {
 

@@ -17,8 +17,8 @@ using ::testing::HasSubstr;
 TEST(ConfigLoaderTest, ParsesValidText) {
   TestConfig c;
   std::string error;
-  ASSERT_TRUE(ParseTextConfig("name: \"a\"\nbaud: 38400\ninner { gain: 2.5 }\n", "x.pbtxt", &c,
-                              &error))
+  ASSERT_TRUE(
+      ParseTextConfig("name: \"a\"\nbaud: 38400\ninner { gain: 2.5 }\n", "x.pbtxt", &c, &error))
       << error;
   EXPECT_EQ(c.baud(), 38400);
   EXPECT_DOUBLE_EQ(c.inner().gain(), 2.5);

@@ -74,8 +74,7 @@ TEST(ConversionsTest, OdometryRoundTrip) {
   odom.linear_mps = 0.4;
   odom.angular_radps = -0.3;
   odom.pose_variance = {0.01, 0.02, 0.003};
-  const Odometry back =
-      FromIdl(ThroughCdr<nav_msgs::msg::dds_::Odometry_PubSubType>(ToIdl(odom)));
+  const Odometry back = FromIdl(ThroughCdr<nav_msgs::msg::dds_::Odometry_PubSubType>(ToIdl(odom)));
   EXPECT_EQ(back.stamp, odom.stamp);
   EXPECT_DOUBLE_EQ(back.pose.x_m, 1.5);
   EXPECT_DOUBLE_EQ(back.pose.y_m, -2.25);
@@ -93,8 +92,8 @@ TEST(ConversionsTest, OdometryYawWrapsIntoMinusPiPi) {
 
 TEST(ConversionsTest, VelocityCommandRoundTrip) {
   VelocityCommand cmd{kStamp, 42, "pilot-a", 0.35, -0.7, true};
-  const VelocityCommand back = FromIdl(
-      ThroughCdr<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>(ToIdl(cmd)));
+  const VelocityCommand back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>(ToIdl(cmd)));
   EXPECT_EQ(back.stamp, cmd.stamp);
   EXPECT_EQ(back.sequence, 42u);
   EXPECT_EQ(back.sender_id, "pilot-a");
@@ -175,8 +174,12 @@ TEST(ConversionsTest, UnknownEnumValuesMapToSafeStates) {
 }
 
 TEST(ConversionsTest, ClockProbeRoundTrip) {
-  ClockProbe probe{"pilot-a", 5, kStamp, kStamp + std::chrono::milliseconds(30),
-                   kStamp + std::chrono::milliseconds(31), kStamp + std::chrono::milliseconds(45)};
+  ClockProbe probe{"pilot-a",
+                   5,
+                   kStamp,
+                   kStamp + std::chrono::milliseconds(30),
+                   kStamp + std::chrono::milliseconds(31),
+                   kStamp + std::chrono::milliseconds(45)};
   const ClockProbe back =
       FromIdl(ThroughCdr<mostar_msgs::msg::dds_::ClockProbe_PubSubType>(ToIdl(probe)));
   EXPECT_EQ(back.sender_id, "pilot-a");

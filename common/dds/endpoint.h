@@ -47,9 +47,8 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
   Writer(Participant& participant, const std::string& topic_name, Stream stream,
          int32_t ownership_strength = 0)
       : participant_(participant) {
-    auto* topic = participant.GetTopic(topic_name, eprosima::fastdds::dds::TypeSupport(
-                                                       new PubSubType()),
-                                       &error_);
+    auto* topic = participant.GetTopic(
+        topic_name, eprosima::fastdds::dds::TypeSupport(new PubSubType()), &error_);
     if (topic == nullptr) return;
     writer_ = participant.publisher()->create_datawriter(
         topic, WriterQos(stream, ownership_strength), this,
@@ -86,8 +85,9 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
   uint64_t failures() const { return failures_.load(); }
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
 
-  void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
-                              const eprosima::fastdds::dds::PublicationMatchedStatus& info) override {
+  void on_publication_matched(
+      eprosima::fastdds::dds::DataWriter*,
+      const eprosima::fastdds::dds::PublicationMatchedStatus& info) override {
     matched_ = info.current_count;
   }
 
@@ -112,15 +112,14 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
       : participant_(participant),
         callback_(std::move(callback)),
         on_liveliness_(std::move(on_liveliness)) {
-    auto* topic = participant.GetTopic(topic_name, eprosima::fastdds::dds::TypeSupport(
-                                                       new PubSubType()),
-                                       &error_);
+    auto* topic = participant.GetTopic(
+        topic_name, eprosima::fastdds::dds::TypeSupport(new PubSubType()), &error_);
     if (topic == nullptr) return;
     using eprosima::fastdds::dds::StatusMask;
-    reader_ = participant.subscriber()->create_datareader(
-        topic, ReaderQos(stream), this,
-        StatusMask::data_available() << StatusMask::subscription_matched()
-                                     << StatusMask::liveliness_changed());
+    reader_ = participant.subscriber()->create_datareader(topic, ReaderQos(stream), this,
+                                                          StatusMask::data_available()
+                                                              << StatusMask::subscription_matched()
+                                                              << StatusMask::liveliness_changed());
     if (reader_ == nullptr) error_ = "cannot create a DDS reader on " + topic_name;
   }
   ~Reader() override {

@@ -1,9 +1,10 @@
 #include "common/dds/participant.h"
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "common/log/log.h"
 
@@ -15,7 +16,8 @@ namespace frtps = eprosima::fastrtps;
 namespace {
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // Loopback-only participant QoS: see the header.
@@ -97,8 +99,8 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
     *error = "cannot create the DDS publisher/subscriber";
     return nullptr;
   }
-  MOSTAR_LOG(DEBUG) << "DDS participant '" << options.name << "' on domain "
-                    << options.domain_id << " with profile " << options.profile;
+  MOSTAR_LOG(DEBUG) << "DDS participant '" << options.name << "' on domain " << options.domain_id
+                    << " with profile " << options.profile;
   return p;
 }
 
@@ -118,7 +120,8 @@ fdds::Topic* Participant::GetTopic(const std::string& name, fdds::TypeSupport ty
     *error = "cannot register DDS type " + type.get_type_name();
     return nullptr;
   }
-  fdds::Topic* topic = participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  fdds::Topic* topic =
+      participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   if (topic == nullptr) {
     *error = "cannot create DDS topic " + name;
     return nullptr;

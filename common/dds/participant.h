@@ -23,10 +23,10 @@
 namespace mostar::dds {
 
 struct ParticipantOptions {
-  int domain_id = 0;                  // 0..232
-  std::string profile = "loopback";   // "loopback" or a path to a Fast DDS XML profiles file
+  int domain_id = 0;                    // 0..232
+  std::string profile = "loopback";     // "loopback" or a path to a Fast DDS XML profiles file
   std::string xml_participant_profile;  // profile name inside the XML file (default: name)
-  std::string name = "mostar";        // participant name, e.g. "robot" or "operator"
+  std::string name = "mostar";          // participant name, e.g. "robot" or "operator"
   // Shared-memory segment size for the loopback profile; must hold a few JPEG frames.
   uint32_t shm_segment_bytes = 8u << 20;
 
@@ -36,8 +36,7 @@ struct ParticipantOptions {
 class Participant {
  public:
   // Creates the participant; returns null and sets `error` on failure.
-  static std::unique_ptr<Participant> Create(const ParticipantOptions& options,
-                                             std::string* error);
+  static std::unique_ptr<Participant> Create(const ParticipantOptions& options, std::string* error);
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

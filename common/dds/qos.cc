@@ -60,6 +60,10 @@ fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
   if (c.reliability == fdds::RELIABLE_RELIABILITY_QOS) {
     qos.reliable_writer_qos().times.heartbeatPeriod = Duration_t(0, 50'000'000);
   }
+  // Writers never block the caller: a full transport (TCP on a slow link) must not freeze a
+  // capture, control or UI thread. Samples are handed to Fast DDS's sending thread; with
+  // keep-last 1 a newer sample replaces one not yet sent.
+  qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
   if (stream == Stream::kCommand) {
     qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
     qos.ownership_strength().value = static_cast<uint32_t>(ownership_strength);

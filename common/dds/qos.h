@@ -1,12 +1,17 @@
 // QoS per stream kind: the one place where mostar's DDS QoS is defined.
 //
-// | stream   | reliability | history     | durability      | other                                  |
+// | stream   | reliability | history     | durability      | other |
 // |----------|-------------|-------------|-----------------|----------------------------------------|
-// | kVideo   | reliable    | keep last 1 | volatile        | heartbeat 50 ms; the publisher skips a frame while the previous one is unacknowledged (ack-clock), so video never offers more than the link carries; best-effort readers (ROS tools) match too |
-// | kSensor  | best effort | keep last 5 | volatile        | scans, odometry (ROS SensorDataQoS-compatible) |
-// | kCommand | reliable    | keep last 1 | volatile        | exclusive ownership, deadline 200 ms, manual-by-topic liveliness 500 ms |
-// | kState   | reliable    | keep last 1 | transient local | lease, health: late joiners get the latest |
-// | kControl | reliable    | keep last 10| volatile        | control requests, e-stop, clock probes |
+// | kVideo   | reliable    | keep last 1 | volatile        | heartbeat 50 ms; the publisher skips a
+// frame while the previous one is unacknowledged (ack-clock), so video never offers more than the
+// link carries; best-effort readers (ROS tools) match too | | kSensor  | best effort | keep last 5
+// | volatile        | scans, odometry (ROS SensorDataQoS-compatible) | | kCommand | reliable    |
+// keep last 1 | volatile        | exclusive ownership, deadline 200 ms, manual-by-topic liveliness
+// 500 ms | | kState   | reliable    | keep last 1 | transient local | lease, health: late joiners
+// get the latest | | kControl | reliable    | keep last 10| volatile        | control requests,
+// e-stop, clock probes |
+// All writers publish asynchronously (Fast DDS's own sending thread), so write() never blocks
+// the caller on a full transport.
 #pragma once
 
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>

@@ -65,16 +65,15 @@ class LogRateLimiter {
        mostar_log_once_; mostar_log_once_ = false)                                 \
   ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__).stream()
 
-#define MOSTAR_LOG_EVERY_SEC(level, seconds)                                                     \
-  for (uint64_t mostar_log_suppressed_ =                                                         \
-           ::mostar::LogEnabled(::mostar::LogLevel::k##level)                                    \
-               ? ([]() -> ::mostar::LogRateLimiter& {                                            \
-                   static ::mostar::LogRateLimiter limiter(seconds);                             \
-                   return limiter;                                                               \
-                 }())                                                                            \
-                     .TryAcquire()                                                               \
-               : ::mostar::LogRateLimiter::kDenied;                                              \
-       mostar_log_suppressed_ != ::mostar::LogRateLimiter::kDenied;                              \
-       mostar_log_suppressed_ = ::mostar::LogRateLimiter::kDenied)                               \
-  ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__, mostar_log_suppressed_) \
+#define MOSTAR_LOG_EVERY_SEC(level, seconds)                                                       \
+  for (uint64_t mostar_log_suppressed_ = ::mostar::LogEnabled(::mostar::LogLevel::k##level)        \
+                                             ? ([]() -> ::mostar::LogRateLimiter& {                \
+                                                 static ::mostar::LogRateLimiter limiter(seconds); \
+                                                 return limiter;                                   \
+                                               }())                                                \
+                                                   .TryAcquire()                                   \
+                                             : ::mostar::LogRateLimiter::kDenied;                  \
+       mostar_log_suppressed_ != ::mostar::LogRateLimiter::kDenied;                                \
+       mostar_log_suppressed_ = ::mostar::LogRateLimiter::kDenied)                                 \
+  ::mostar::LogMessage(::mostar::LogLevel::k##level, __FILE__, __LINE__, mostar_log_suppressed_)   \
       .stream()

@@ -31,8 +31,8 @@ std::string ToIso8601(Time t) {
   std::tm tm{};
   gmtime_r(&tt, &tm);
   std::ostringstream out;
-  out << std::put_time(&tm, "%Y-%m-%dT%H:%M:%S") << '.' << std::setw(9) << std::setfill('0')
-      << frac << 'Z';
+  out << std::put_time(&tm, "%Y-%m-%dT%H:%M:%S") << '.' << std::setw(9) << std::setfill('0') << frac
+      << 'Z';
   return out.str();
 }
 

@@ -23,8 +23,7 @@ TEST(TimeTest, NegativeTimesClampToEpoch) {
 }
 
 TEST(TimeTest, Iso8601) {
-  EXPECT_EQ(ToIso8601(FromUnixNanos(1'000'000'000'000'000'001)),
-            "2001-09-09T01:46:40.000000001Z");
+  EXPECT_EQ(ToIso8601(FromUnixNanos(1'000'000'000'000'000'001)), "2001-09-09T01:46:40.000000001Z");
 }
 
 TEST(TimeTest, SecondsConversions) {

@@ -10,12 +10,12 @@ namespace mostar {
 
 // Velocity in the robot base frame. Units: m/s forward, rad/s counter-clockwise.
 struct VelocityCommand {
-  Time stamp;              // sender's clock
-  uint64_t sequence = 0;   // strictly increasing per sender
+  Time stamp;             // sender's clock
+  uint64_t sequence = 0;  // strictly increasing per sender
   std::string sender_id;
   double linear_mps = 0;
   double angular_radps = 0;
-  bool enable = false;     // deadman held
+  bool enable = false;  // deadman held
 };
 
 struct EmergencyStop {
@@ -28,7 +28,7 @@ struct ControlRequest {
   Time stamp;
   std::string sender_id;
   int32_t strength = 0;
-  bool take = true;        // false: release
+  bool take = true;  // false: release
 };
 
 // Who drives. An empty holder means nobody.

@@ -14,11 +14,11 @@ enum class DeviceState : uint8_t { kOk = 0, kWarn = 1, kError = 2, kOff = 3 };
 const char* DeviceStateName(DeviceState state);
 
 enum class WatchdogState : uint8_t {
-  kIdle = 0,        // no pilot command yet, or released
-  kDriving = 1,     // fresh commands arrive
-  kStopping = 2,    // deadman expired: ramping to zero
-  kWaitRearm = 3,   // stopped after a link loss; the pilot must re-arm (deadman up, then down)
-  kEstop = 4,       // emergency stop engaged
+  kIdle = 0,       // no pilot command yet, or released
+  kDriving = 1,    // fresh commands arrive
+  kStopping = 2,   // deadman expired: ramping to zero
+  kWaitRearm = 3,  // stopped after a link loss; the pilot must re-arm (deadman up, then down)
+  kEstop = 4,      // emergency stop engaged
 };
 const char* WatchdogStateName(WatchdogState state);
 

@@ -10,12 +10,12 @@
 namespace mostar {
 
 struct LaserScan {
-  Time stamp;                      // when the first beam was measured
-  uint64_t sequence = 0;           // scan counter of the producer, increasing by 1
-  float angle_min_rad = 0.f;       // angle of ranges_m[0]; counter-clockwise, 0 = ahead
+  Time stamp;                 // when the first beam was measured
+  uint64_t sequence = 0;      // scan counter of the producer, increasing by 1
+  float angle_min_rad = 0.f;  // angle of ranges_m[0]; counter-clockwise, 0 = ahead
   float angle_increment_rad = 0.f;
-  float time_increment_s = 0.f;    // time between two beams
-  float scan_time_s = 0.f;         // time between two scans
+  float time_increment_s = 0.f;  // time between two beams
+  float scan_time_s = 0.f;       // time between two scans
   float range_min_m = 0.f;
   float range_max_m = 0.f;
   // unit: metre. NaN = invalid beam (no echo, dazzle, device error code); +Inf = beyond range.

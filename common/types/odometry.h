@@ -15,9 +15,9 @@ struct Pose2D {
 
 struct Odometry {
   Time stamp;
-  Pose2D pose;                        // odom_from_base
-  double linear_mps = 0;              // base frame, forward
-  double angular_radps = 0;           // counter-clockwise
+  Pose2D pose;                            // odom_from_base
+  double linear_mps = 0;                  // base frame, forward
+  double angular_radps = 0;               // counter-clockwise
   std::array<double, 3> pose_variance{};  // x (m^2), y (m^2), theta (rad^2); grows with distance
 };
 

@@ -15,14 +15,14 @@ enum class Eye { kLeft = 0, kRight = 1 };
 inline const char* EyeName(Eye eye) { return eye == Eye::kLeft ? "left" : "right"; }
 
 struct CompressedImage {
-  Time stamp;               // capture time (both eyes of a pair share it)
-  std::string frame_id;     // "camera_left" or "camera_right"
-  std::string format;       // "jpeg"
+  Time stamp;            // capture time (both eyes of a pair share it)
+  std::string frame_id;  // "camera_left" or "camera_right"
+  std::string format;    // "jpeg"
   std::vector<uint8_t> data;
 };
 
 struct CompressedStereoPair {
-  uint64_t sequence = 0;    // pair counter of the producer
+  uint64_t sequence = 0;  // pair counter of the producer
   CompressedImage left;
   CompressedImage right;
 };

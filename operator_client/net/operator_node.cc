@@ -59,16 +59,17 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
     node->command_ = std::make_unique<decltype(node->command_)::element_type>(
         p, topics::kCommand, Stream::kCommand, options.command_strength);
   }
-  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
-      p, topics::kEmergencyStop, Stream::kControl);
-  node->request_ = std::make_unique<decltype(node->request_)::element_type>(
-      p, topics::kControlRequest, Stream::kControl);
+  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(p, topics::kEmergencyStop,
+                                                                        Stream::kControl);
+  if (options.pilot) {  // observers never ask for control (and may lack the permission)
+    node->request_ = std::make_unique<decltype(node->request_)::element_type>(
+        p, topics::kControlRequest, Stream::kControl);
+  }
   node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(p, topics::kClockPing,
                                                                       Stream::kControl);
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
-      !Check(node->odom_, error) || !Check(node->health_, error) ||
-      !Check(node->lease_, error) || !Check(node->pong_, error) ||
-      !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
+      !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
@@ -82,7 +83,7 @@ bool OperatorNode::SendEmergencyStop(const EmergencyStop& stop) {
   return estop_->Write(dds::ToIdl(stop));
 }
 bool OperatorNode::SendControlRequest(const ControlRequest& request) {
-  return request_->Write(dds::ToIdl(request));
+  return request_ != nullptr && request_->Write(dds::ToIdl(request));
 }
 bool OperatorNode::SendPing(const ClockProbe& probe) { return ping_->Write(dds::ToIdl(probe)); }
 

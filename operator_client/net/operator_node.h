@@ -33,13 +33,12 @@ class OperatorNode {
   };
   struct Options {
     std::string client_id = "operator";
-    bool pilot = false;          // observers create no command writer
+    bool pilot = false;  // observers create no command writer
     int32_t command_strength = 10;
   };
 
-  static std::unique_ptr<OperatorNode> Create(dds::Participant* participant,
-                                              const Options& options, Callbacks callbacks,
-                                              std::string* error);
+  static std::unique_ptr<OperatorNode> Create(dds::Participant* participant, const Options& options,
+                                              Callbacks callbacks, std::string* error);
 
   // False for observers and when DDS refused the sample.
   bool SendCommand(const VelocityCommand& command);

@@ -47,9 +47,8 @@ class EyeRenderer {
   bool Init(std::string* error);
   // Renders into the eye framebuffer (resized to the image). `image` BGR8 (may be empty: grey
   // background). `projection`/`view`: the eye's GL matrices.
-  void Render(const cv::Mat& image, const Eigen::Matrix4f& projection,
-              const Eigen::Matrix4f& view, const OverlayGeometry& overlay,
-              const EyeAlignment& alignment);
+  void Render(const cv::Mat& image, const Eigen::Matrix4f& projection, const Eigen::Matrix4f& view,
+              const OverlayGeometry& overlay, const EyeAlignment& alignment);
   GLuint texture() const { return color_texture_; }
   int width() const { return width_; }
   int height() const { return height_; }

@@ -17,8 +17,8 @@ GLuint Compile(GLenum kind, const char* source, std::string* error) {
     glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
     std::vector<char> log(static_cast<size_t>(std::max(length, 1)));
     glGetShaderInfoLog(shader, length, nullptr, log.data());
-    *error = std::string(kind == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-             " shader: " + log.data();
+    *error =
+        std::string(kind == GL_VERTEX_SHADER ? "vertex" : "fragment") + " shader: " + log.data();
     glDeleteShader(shader);
     return 0;
   }
@@ -31,8 +31,7 @@ GlProgram::~GlProgram() {
   if (id_ != 0) glDeleteProgram(id_);
 }
 
-bool GlProgram::Build(const char* vertex_source, const char* fragment_source,
-                      std::string* error) {
+bool GlProgram::Build(const char* vertex_source, const char* fragment_source, std::string* error) {
   const GLuint vs = Compile(GL_VERTEX_SHADER, vertex_source, error);
   if (vs == 0) return false;
   const GLuint fs = Compile(GL_FRAGMENT_SHADER, fragment_source, error);

@@ -87,8 +87,11 @@ TEST_F(RenderTest, WallBaseLandsOnTheProjectedImageRow) {
     const fusion::Rgba red{1, 0, 0, 1};
     // A wall across the view at `distance_m`, from the floor up 0.3 m.
     const float y0 = -1.f, y1 = 1.f, z0 = floor_z, z1 = floor_z + 0.3f;
-    for (const auto& v : {std::array<float, 3>{distance_m, y0, z0}, {distance_m, y1, z0},
-                          {distance_m, y1, z1}, {distance_m, y0, z0}, {distance_m, y1, z1},
+    for (const auto& v : {std::array<float, 3>{distance_m, y0, z0},
+                          {distance_m, y1, z0},
+                          {distance_m, y1, z1},
+                          {distance_m, y0, z0},
+                          {distance_m, y1, z1},
                           {distance_m, y0, z1}}) {
       overlay.triangles.Add(v[0], v[1], v[2], red);
     }

@@ -43,10 +43,10 @@ void main() {
 
 const std::map<std::string, DisplayMode>& Names() {
   static const std::map<std::string, DisplayMode> names = {
-      {"mono-left", DisplayMode::kMonoLeft},         {"mono-right", DisplayMode::kMonoRight},
-      {"anaglyph", DisplayMode::kAnaglyphGrey},      {"anaglyph-color", DisplayMode::kAnaglyphColor},
-      {"sbs", DisplayMode::kSideBySideFull},         {"sbs-half", DisplayMode::kSideBySideHalf},
-      {"top-bottom", DisplayMode::kTopBottom},       {"interlaced", DisplayMode::kRowInterlaced},
+      {"mono-left", DisplayMode::kMonoLeft},     {"mono-right", DisplayMode::kMonoRight},
+      {"anaglyph", DisplayMode::kAnaglyphGrey},  {"anaglyph-color", DisplayMode::kAnaglyphColor},
+      {"sbs", DisplayMode::kSideBySideFull},     {"sbs-half", DisplayMode::kSideBySideHalf},
+      {"top-bottom", DisplayMode::kTopBottom},   {"interlaced", DisplayMode::kRowInterlaced},
       {"quad-buffer", DisplayMode::kQuadBuffer},
   };
   return names;

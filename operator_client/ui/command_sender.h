@@ -20,8 +20,8 @@ namespace mostar::ui {
 
 struct CommandSenderOptions {
   std::string client_id;
-  bool pilot = true;             // observers send no velocity commands
-  int32_t strength = 10;         // for control requests
+  bool pilot = true;      // observers send no velocity commands
+  int32_t strength = 10;  // for control requests
   Duration command_period = std::chrono::milliseconds(50);
   Duration ping_period = std::chrono::seconds(1);
 };

@@ -81,8 +81,8 @@ unsigned OperatorConsole::UploadTexture(const cv::Mat& image, unsigned texture) 
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, static_cast<GLint>(image.step / image.elemSize()));
   const GLenum format = image.channels() == 1 ? GL_RED : GL_BGR;
-  glTexImage2D(GL_TEXTURE_2D, 0, image.channels() == 1 ? GL_R8 : GL_RGB8, image.cols, image.rows,
-               0, format, GL_UNSIGNED_BYTE, image.data);
+  glTexImage2D(GL_TEXTURE_2D, 0, image.channels() == 1 ? GL_R8 : GL_RGB8, image.cols, image.rows, 0,
+               format, GL_UNSIGNED_BYTE, image.data);
   if (image.channels() == 1) {
     const GLint swizzle[] = {GL_RED, GL_RED, GL_RED, GL_ONE};
     glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, swizzle);
@@ -175,7 +175,8 @@ void OperatorConsole::HandleInput() {
   if (!typing) {
     if (keys.Pressed(w, GLFW_KEY_ESCAPE)) window_->RequestClose();
     if (keys.Pressed(w, GLFW_KEY_F1)) show_help_ = !show_help_;
-    if (keys.Pressed(w, GLFW_KEY_C)) options_.show_calibration_panel = !options_.show_calibration_panel;
+    if (keys.Pressed(w, GLFW_KEY_C))
+      options_.show_calibration_panel = !options_.show_calibration_panel;
     if (keys.Pressed(w, GLFW_KEY_H)) options_.show_hud = !options_.show_hud;
     if (keys.Pressed(w, GLFW_KEY_M)) options_.show_map = !options_.show_map;
     if (keys.Pressed(w, GLFW_KEY_E)) options_.vision_enabled = !options_.vision_enabled;
@@ -204,8 +205,8 @@ void OperatorConsole::HandleInput() {
   }
   if (scripted_drive_) {
     // Hold the lease, then arm with the deadman up for 0.5 s, then drive.
-    const bool armed = holding_since_ &&
-                       clock_->SteadyNow() - *holding_since_ > std::chrono::milliseconds(500);
+    const bool armed =
+        holding_since_ && clock_->SteadyNow() - *holding_since_ > std::chrono::milliseconds(500);
     drive_ = armed ? *scripted_drive_ : DriveOutput{};
   } else {
     DriveInputState input;
@@ -228,8 +229,7 @@ void OperatorConsole::HandleInput() {
 }
 
 void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
-                                   render::OverlayGeometry* overlay,
-                                   fusion::ArFeatures* features) {
+                                   render::OverlayGeometry* overlay, fusion::ArFeatures* features) {
   if (scan) {
     fusion::ArFeatureOptions ar = options_.ar;
     ar.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
@@ -323,9 +323,11 @@ bool OperatorConsole::Frame() {
 namespace {
 double Percentile(std::vector<double> values, double percentile) {
   if (values.empty()) return 0;
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(percentile / 100.0 *
-                                                                        static_cast<double>(values.size())));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index), values.end());
+  const size_t index =
+      std::min(values.size() - 1,
+               static_cast<size_t>(percentile / 100.0 * static_cast<double>(values.size())));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
+                   values.end());
   return values[index];
 }
 }  // namespace
@@ -381,11 +383,12 @@ void OperatorConsole::DrawLabels(const fusion::ArFeatures& features, int fb_w, i
   for (const EyeRect& r : rects) {
     const math::CameraModel model(options_.calibration, r.eye);
     for (const fusion::DistanceLabel& label : features.labels) {
-      const auto px = model.Project(
-          Eigen::Vector3d(label.anchor_x_m, label.anchor_y_m, label.anchor_z_m));
+      const auto px =
+          model.Project(Eigen::Vector3d(label.anchor_x_m, label.anchor_y_m, label.anchor_z_m));
       if (!px || !model.IsInImage(*px)) continue;
       const float x = (r.x + static_cast<float>((*px)(0) + 0.5) * r.w / model.width_px()) / scale.x;
-      const float y = (r.y + static_cast<float>((*px)(1) + 0.5) * r.h / model.height_px()) / scale.y;
+      const float y =
+          (r.y + static_cast<float>((*px)(1) + 0.5) * r.h / model.height_px()) / scale.y;
       const ImVec2 size = ImGui::CalcTextSize(label.text.c_str());
       const ImVec2 top_left(x - size.x / 2 - 4, y - size.y - 4);
       draw->AddRectFilled(top_left, ImVec2(x + size.x / 2 + 4, y), IM_COL32(0, 0, 0, 170), 4);
@@ -429,7 +432,8 @@ void OperatorConsole::DrawHud(const client::RobotSnapshot& robot,
     const bool me = holder == options_.client_id;
     ImGui::Text("pilot: %s%s   watchdog: %s", holder.empty() ? "(nobody)" : holder.c_str(),
                 me ? " (you)" : "", WatchdogStateName(h.watchdog_state));
-    if (h.estop_engaged) ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "EMERGENCY STOP (U releases)");
+    if (h.estop_engaged)
+      ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "EMERGENCY STOP (U releases)");
     for (const DeviceHealth& d : h.devices) {
       if (d.state == DeviceState::kOk) continue;
       ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s %s: %s", d.name.c_str(),
@@ -469,8 +473,7 @@ void OperatorConsole::DrawMap(const client::RobotSnapshot& robot,
     return ImVec2(robot_px.x - y * scale, robot_px.y - x * scale);
   };
   for (float r = 0.5f; r <= 2 * range_m; r += 0.5f) {
-    draw->AddCircle(robot_px, r * scale, IM_COL32(255, 255, 255, r == std::floor(r) ? 70 : 35),
-                    64);
+    draw->AddCircle(robot_px, r * scale, IM_COL32(255, 255, 255, r == std::floor(r) ? 70 : 35), 64);
   }
   for (const fusion::ScanPointLabel& p : features.points) {
     if (!p.valid) continue;
@@ -481,7 +484,8 @@ void OperatorConsole::DrawMap(const client::RobotSnapshot& robot,
     draw->AddRectFilled(ImVec2(s.x - 1.5f, s.y - 1.5f), ImVec2(s.x + 1.5f, s.y + 1.5f),
                         ToImColor(p.color));
   }
-  draw->AddTriangleFilled(ImVec2(robot_px.x, robot_px.y - 9), ImVec2(robot_px.x - 6, robot_px.y + 4),
+  draw->AddTriangleFilled(ImVec2(robot_px.x, robot_px.y - 9),
+                          ImVec2(robot_px.x - 6, robot_px.y + 4),
                           ImVec2(robot_px.x + 6, robot_px.y + 4), IM_COL32(80, 160, 255, 255));
   ImGui::End();
 }

@@ -46,7 +46,7 @@ struct ConsoleOptions {
   // missed and confirm outliers. Toggled with E; thresholds in the edge view (V).
   bool vision_enabled = true;
   vision::VisionOptions vision;
-  render::EyeAlignment left_alignment;   // thesis 9.1 stereo alignment (image offsets, crop)
+  render::EyeAlignment left_alignment;  // thesis 9.1 stereo alignment (image offsets, crop)
   render::EyeAlignment right_alignment;
 };
 
@@ -108,14 +108,14 @@ class OperatorConsole {
   std::shared_ptr<const math::CameraModel> right_model_;
   math::LaserCameraCalibration models_calibration_;
   uint64_t submitted_pair_ = 0;
-  std::map<uint64_t, client::DecodedStereoPair> in_flight_;  // submitted, awaiting a result
+  std::map<uint64_t, client::DecodedStereoPair> in_flight_;   // submitted, awaiting a result
   std::optional<client::DecodedStereoPair> shown_pair_;       // what is displayed
   std::shared_ptr<const vision::VisionResult> shown_result_;  // its edge result, if any
   bool show_edge_view_ = false;
   unsigned edge_textures_[2] = {0, 0};
 
   bool show_help_ = false;
-  bool want_control_ = false;     // pilots ask for the lease until they hold it
+  bool want_control_ = false;  // pilots ask for the lease until they hold it
   bool holding_lease_ = false;
   SteadyTime next_control_request_;
   std::optional<SteadyTime> holding_since_;
@@ -125,8 +125,8 @@ class OperatorConsole {
   uint64_t rendered_pairs_ = 0;
   cv::Mat last_frame_;
   double frame_time_ms_ = 0;
-  std::vector<double> display_ages_ms_;   // per shown pair
-  std::vector<double> frame_times_ms_;    // per frame that showed a new pair
+  std::vector<double> display_ages_ms_;  // per shown pair
+  std::vector<double> frame_times_ms_;   // per frame that showed a new pair
   double display_age_ms_ = 0;
   SteadyTime last_frame_start_;
 };

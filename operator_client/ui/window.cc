@@ -22,8 +22,7 @@ GLFWwindow* TryCreate(const WindowOptions& options, bool stereo) {
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_VISIBLE, options.visible ? GLFW_TRUE : GLFW_FALSE);
   glfwWindowHint(GLFW_STEREO, stereo ? GLFW_TRUE : GLFW_FALSE);
-  return glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr,
-                          nullptr);
+  return glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
 }
 }  // namespace
 
@@ -54,8 +53,8 @@ std::unique_ptr<Window> Window::Create(const WindowOptions& options, std::string
   glfwSwapInterval(options.visible ? 1 : 0);
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-  window->renderer_ = std::string(renderer ? renderer : "?") + ", OpenGL " +
-                      (version ? version : "?");
+  window->renderer_ =
+      std::string(renderer ? renderer : "?") + ", OpenGL " + (version ? version : "?");
   return window;
 }
 

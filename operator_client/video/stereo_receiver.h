@@ -10,10 +10,9 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <thread>
-
-#include <opencv2/core/mat.hpp>
 
 #include "common/time/rate_meter.h"
 #include "common/time/time.h"
@@ -31,12 +30,12 @@ struct DecodedStereoPair {
 };
 
 struct ReceiverStats {
-  uint64_t images = 0;           // JPEG images received (both eyes)
+  uint64_t images = 0;  // JPEG images received (both eyes)
   uint64_t pairs_decoded = 0;
-  uint64_t pairs_dropped = 0;    // replaced before decoding (render/decoder slower than input)
-  uint64_t unpaired_dropped = 0; // an eye whose partner never came
-  uint64_t broken_images = 0;    // undecodable JPEG data
-  uint64_t bytes = 0;            // compressed bytes received
+  uint64_t pairs_dropped = 0;     // replaced before decoding (render/decoder slower than input)
+  uint64_t unpaired_dropped = 0;  // an eye whose partner never came
+  uint64_t broken_images = 0;     // undecodable JPEG data
+  uint64_t bytes = 0;             // compressed bytes received
   double pair_rate_hz = 0;
   double bitrate_bps = 0;
 };
@@ -60,7 +59,7 @@ class StereoReceiver {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   bool stop_ = false;
-  std::map<int64_t, CompressedImage> pending_left_;   // by stamp (ns), waiting for the partner
+  std::map<int64_t, CompressedImage> pending_left_;  // by stamp (ns), waiting for the partner
   std::map<int64_t, CompressedImage> pending_right_;
   std::optional<CompressedStereoPair> to_decode_;
   SteadyTime to_decode_received_;

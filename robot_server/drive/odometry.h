@@ -28,7 +28,7 @@
 namespace mostar::drive {
 
 struct OdometryOptions {
-  double wheel_radius_m = 0.10;           // rolling radius of both drive wheels
+  double wheel_radius_m = 0.10;  // rolling radius of both drive wheels
   // Where the wheel axle's midpoint (the point the differential drive turns about) lies in
   // base_link (x forward from the point under the laser; negative = behind the laser). The
   // reported pose is base_link's; 0 puts base_link on the axle.
@@ -74,7 +74,7 @@ class OdometryIntegrator {
   OdometryOptions options_;
   double metres_per_tick_;
   std::optional<EncoderReading> previous_;
-  Pose2D axle_pose_;  // odom_from_axle: what the wheels integrate
+  Pose2D axle_pose_;   // odom_from_axle: what the wheels integrate
   Odometry odometry_;  // odom_from_base
   std::array<double, 9> covariance_{};
   OdometryStats stats_;

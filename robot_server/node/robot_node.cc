@@ -26,14 +26,14 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   node->callbacks_ = std::move(callbacks);
   RobotNode* self = node.get();
   auto& p = *participant;
-  node->left_ = std::make_unique<decltype(node->left_)::element_type>(p, topics::kCameraLeft,
-                                                                      Stream::kVideo);
+  node->left_ =
+      std::make_unique<decltype(node->left_)::element_type>(p, topics::kCameraLeft, Stream::kVideo);
   node->right_ = std::make_unique<decltype(node->right_)::element_type>(p, topics::kCameraRight,
                                                                         Stream::kVideo);
   node->scan_ =
       std::make_unique<decltype(node->scan_)::element_type>(p, topics::kScan, Stream::kSensor);
-  node->odom_ = std::make_unique<decltype(node->odom_)::element_type>(p, topics::kOdometry,
-                                                                      Stream::kSensor);
+  node->odom_ =
+      std::make_unique<decltype(node->odom_)::element_type>(p, topics::kOdometry, Stream::kSensor);
   node->health_ =
       std::make_unique<decltype(node->health_)::element_type>(p, topics::kHealth, Stream::kState);
   node->lease_ = std::make_unique<decltype(node->lease_)::element_type>(p, topics::kControlLease,
@@ -53,8 +53,7 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
         if (self->callbacks_.on_estop) self->callbacks_.on_estop(dds::FromIdl(s));
       });
   node->request_ = std::make_unique<decltype(node->request_)::element_type>(
-      p, topics::kControlRequest, Stream::kControl,
-      [self](const dds::wire::ControlRequest& r) {
+      p, topics::kControlRequest, Stream::kControl, [self](const dds::wire::ControlRequest& r) {
         if (self->callbacks_.on_control_request) {
           self->callbacks_.on_control_request(dds::FromIdl(r));
         }
@@ -63,9 +62,8 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       p, topics::kClockPing, Stream::kControl,
       [self](const dds::wire::ClockProbe& ping) { self->OnPing(dds::FromIdl(ping)); });
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
-      !Check(node->odom_, error) || !Check(node->health_, error) ||
-      !Check(node->lease_, error) || !Check(node->pong_, error) ||
-      !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
+      !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }

@@ -13,8 +13,8 @@
 #include <string>
 
 #include "common/dds/endpoint.h"
-#include "common/timesync/clock_offset_estimator.h"
 #include "common/time/time.h"
+#include "common/timesync/clock_offset_estimator.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"

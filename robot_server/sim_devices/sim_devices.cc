@@ -47,8 +47,7 @@ camera::GrabResult SimStereoCamera::Grab(Duration timeout, camera::StereoImagePa
 SimDriveMotors::SimDriveMotors(SimWorld* world, const Clock* clock)
     : world_(world), clock_(clock) {}
 
-bool SimDriveMotors::SetWheelVelocities(const drive::WheelVelocities& wheels,
-                                        std::string* error) {
+bool SimDriveMotors::SetWheelVelocities(const drive::WheelVelocities& wheels, std::string* error) {
   const double track = world_->drive_params().track_width_m;
   return SetVelocity(0.5 * (wheels.left_mps + wheels.right_mps),
                      (wheels.right_mps - wheels.left_mps) / track, error);
@@ -86,8 +85,7 @@ int SimDriveMotors::counter_bits() const { return world_->drive_params().encoder
 std::unique_ptr<SimulatedLms200> SimulatedLms200::Create(SimWorld* world,
                                                          laser::Lms200Config config,
                                                          const std::string& link_path,
-                                                         const Clock* clock,
-                                                         std::string* error) {
+                                                         const Clock* clock, std::string* error) {
   std::unique_ptr<SimulatedLms200> sim(new SimulatedLms200());
   sim->ranges_ = std::make_unique<SimWorldRangeSource>(world, clock->SteadyNow(), clock->Now());
   Lms200EmulatorOptions options;  // factory state: 9600 baud, 180/0.5 deg; the driver sets it up

@@ -62,8 +62,8 @@ class SimulatedLms200 {
  public:
   // Null with a message when the pseudo-terminal cannot be created.
   static std::unique_ptr<SimulatedLms200> Create(SimWorld* world, laser::Lms200Config config,
-                                                 const std::string& link_path,
-                                                 const Clock* clock, std::string* error);
+                                                 const std::string& link_path, const Clock* clock,
+                                                 std::string* error);
   ~SimulatedLms200();
   laser::LaserScanner* scanner() { return scanner_.get(); }
   Lms200Emulator* emulator() { return emulator_.get(); }

@@ -15,8 +15,8 @@
 namespace mostar::testpattern {
 
 struct RoomOptions {
-  double half_length_m = 4.0;   // room spans x in [-half_length, half_length] (odom frame)
-  double half_width_m = 2.5;    // and y in [-half_width, half_width]
+  double half_length_m = 4.0;  // room spans x in [-half_length, half_length] (odom frame)
+  double half_width_m = 2.5;   // and y in [-half_width, half_width]
   double wheel_radius_m = 0.1;
   double track_width_m = 0.5;
   int ticks_per_turn = 500;
