@@ -14,6 +14,7 @@
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/math/calibration_io.h"
+#include "common/record/recording_writer.h"
 #include "operator_client/client_config.pb.h"
 #include "operator_client/net/operator_node.h"
 #include "operator_client/net/robot_state.h"
@@ -93,6 +94,7 @@ int Run(int argc, char** argv) {
   std::string screenshot;
   std::vector<double> scripted_drive;
   std::string trace_path;
+  std::string record_path;
   std::string log_level = "info";
   app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
       ->check(CLI::Range(0, 232));
@@ -122,6 +124,8 @@ int Run(int argc, char** argv) {
       ->expected(2)
       ->delimiter(',');
   app.add_option("--trace", trace_path, "write received stamps and sent commands to this CSV");
+  app.add_option("--record", record_path,
+                 "record everything received (and the commands sent) to this file");
   app.add_option("--log-level", log_level, "debug | info | warning | error")
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
   CLI11_PARSE(app, argc, argv);
@@ -176,23 +180,44 @@ int Run(int argc, char** argv) {
   }
 
   const Clock* clock = &SystemClock::Instance();
+  std::unique_ptr<record::RecordingWriter> recorder;
+  if (!record_path.empty()) {
+    record::RecordingInfo info;
+    info.robot_id = "recorded by " + client_id;
+    info.calibration_text = math::ToProto(console_options.calibration, "in force").DebugString();
+    recorder = record::RecordingWriter::Open(record_path, {}, info, *clock, &error);
+    if (!recorder) {
+      std::cerr << "operator_client: cannot record: " << error << "\n";
+      return 2;
+    }
+  }
+  record::RecordingWriter* rec = recorder.get();
   StereoReceiver video(clock);
   RobotState robot(clock);
   OperatorNode::Callbacks callbacks;
   callbacks.on_image = [&](Eye eye, const CompressedImage& image) {
     trace.Add(eye == Eye::kLeft ? "left" : "right", image.stamp, 0);
+    if (rec) rec->Write(image, eye);
     video.Push(eye, image);
   };
   callbacks.on_scan = [&](const LaserScan& scan) {
     trace.Add("scan", scan.stamp, 0);
+    if (rec) rec->Write(scan);
     robot.AddScan(scan);
   };
   callbacks.on_health = [&](const RobotHealth& h) {
     trace.Add("health", h.stamp, h.last_command_sequence);
+    if (rec) rec->Write(h);
     robot.SetHealth(h);
   };
-  callbacks.on_lease = [&](const ControlLease& l) { robot.SetLease(l); };
-  callbacks.on_odometry = [&](const Odometry& o) { robot.SetOdometry(o); };
+  callbacks.on_lease = [&](const ControlLease& l) {
+    if (rec) rec->Write(l);
+    robot.SetLease(l);
+  };
+  callbacks.on_odometry = [&](const Odometry& o) {
+    if (rec) rec->Write(o);
+    robot.SetOdometry(o);
+  };
   callbacks.on_pong = [&](const ClockProbe& probe) {
     if (probe.sender_id == client_id) robot.AddClockSample(probe);
   };
@@ -219,7 +244,10 @@ int Run(int argc, char** argv) {
   };
   sinks.control = [&](const ControlRequest& r) { return node->SendControlRequest(r); };
   sinks.estop = [&](const EmergencyStop& e) { return node->SendEmergencyStop(e); };
-  sinks.on_sent = [&](const VelocityCommand& c) { trace.Add("command", c.stamp, c.sequence); };
+  sinks.on_sent = [&](const VelocityCommand& c) {
+    trace.Add("command", c.stamp, c.sequence);
+    if (rec) rec->Write(c);
+  };
   ui::CommandSender commands(sender_options, sinks, clock);
 
   int window_w = 0;
@@ -261,6 +289,10 @@ int Run(int argc, char** argv) {
     if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
   }
   commands.Stop();
+  node.reset();  // no more callbacks into the recorder
+  if (recorder && !recorder->Close(&error)) {
+    std::cerr << "operator_client: recording: " << error << "\n";
+  }
   trace.Flush();
   if (!screenshot.empty()) {
     if (console.last_frame().empty()) {

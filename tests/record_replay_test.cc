@@ -77,7 +77,8 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
   Subprocess client;
   ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
                             domain_, "--role", "observer", "--id", "observer", "--duration", "8",
-                            "--trace", dir_ + "/client.csv", "--screenshot", dir_ + "/replay.png"},
+                            "--trace", dir_ + "/client.csv", "--screenshot", dir_ + "/replay.png",
+                            "--record", dir_ + "/observer.mostar"},
                            dir_ + "/client.log", &error));
   const auto client_code = client.Wait(std::chrono::seconds(60));
   replay.Signal(SIGTERM);
@@ -98,6 +99,18 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
   EXPECT_GE(frames, 10u);
   EXPECT_GE(scans, 10u);
   EXPECT_FALSE(testing::ReadFile(dir_ + "/replay.png").empty());
+  {
+    // The observer's own recording of what it received.
+    Subprocess info;
+    ASSERT_TRUE(info.Start({Bin("common/record/mostar_record_info"), dir_ + "/observer.mostar"},
+                           dir_ + "/observer_info.log", &error));
+    const auto code = info.Wait(std::chrono::seconds(30));
+    ASSERT_TRUE(code.has_value());
+    const std::string summary = testing::ReadFile(dir_ + "/observer_info.log");
+    EXPECT_EQ(*code, 0) << summary;
+    EXPECT_NE(summary.find("camera/left"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("scan"), std::string::npos) << summary;
+  }
 
   // A truncated copy replays up to the damage and says where it is.
   const std::string data = testing::ReadFile(recording);
