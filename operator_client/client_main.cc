@@ -61,6 +61,7 @@ bool ApplyConfig(const ClientConfig& config, const std::string& config_dir,
     *error = "ar: " + *error;
     return false;
   }
+  options->intrinsics_from_robot = config.intrinsics_from_robot();
   options->vision_enabled = config.vision_enabled();
   options->vision = vision::FromProto(config.vision());
   if (!options->vision.IsValid(error)) {
@@ -217,6 +218,9 @@ int Run(int argc, char** argv) {
   callbacks.on_odometry = [&](const Odometry& o) {
     if (rec) rec->Write(o);
     robot.SetOdometry(o);
+  };
+  callbacks.on_camera_info = [&](Eye eye, const CameraIntrinsicsInfo& info) {
+    robot.SetIntrinsics(eye, info);
   };
   callbacks.on_pong = [&](const ClockProbe& probe) {
     if (probe.sender_id == client_id) robot.AddClockSample(probe);

@@ -23,6 +23,7 @@
 #include "common/record/replay_player.h"
 #include "common/time/rate_meter.h"
 #include "robot_server/camera/camera_factory.h"
+#include "robot_server/camera/camera_intrinsics.h"
 #include "robot_server/camera/camera_pipeline.h"
 #include "robot_server/drive/drive_config.h"
 #include "robot_server/drive/odometry.h"
@@ -63,7 +64,22 @@ struct Devices {
   std::unique_ptr<drive::DriveMotors> motors;
   std::unique_ptr<camera::StereoCamera> camera;
   camera::CameraPipelineOptions camera_options;
+  // Intrinsics of each eye, published for the clients; empty when unknown.
+  std::vector<CameraIntrinsicsInfo> intrinsics;
 };
+
+CameraIntrinsicsInfo InfoFromIntrinsics(const camera::CameraIntrinsics& k, Eye eye) {
+  CameraIntrinsicsInfo info;
+  info.frame_id = eye == Eye::kLeft ? "camera_left" : "camera_right";
+  info.width_px = k.image_size.width;
+  info.height_px = k.image_size.height;
+  info.fx = k.camera_matrix(0, 0);
+  info.fy = k.camera_matrix(1, 1);
+  info.cx = k.camera_matrix(0, 2);
+  info.cy = k.camera_matrix(1, 2);
+  info.distortion = k.distortion;
+  return info;
+}
 
 bool MakeDevices(const ServerConfig& config, const std::string& config_dir, const Clock* clock,
                  drive::DriveSettings* settings, Devices* devices, std::string* error) {
@@ -104,6 +120,18 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
       devices->camera = std::make_unique<sim::SimStereoCamera>(
           devices->world.get(), config.test_pattern().frame_rate_hz(), clock);
       devices->camera_options.bitrate.initial_quality = config.test_pattern().jpeg_quality();
+      const sim::LaserCameraCalibration& truth = devices->world->calibration();
+      for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+        CameraIntrinsicsInfo info;
+        info.frame_id = eye == Eye::kLeft ? "camera_left" : "camera_right";
+        info.width_px = truth.width_px;
+        info.height_px = truth.height_px;
+        info.fx = info.fy = truth.focal_px;
+        info.cx = truth.cx_px;
+        info.cy = eye == Eye::kLeft ? truth.cy_px : truth.right_cy_px;
+        info.distortion = {truth.k1, truth.k2, 0, 0, 0};
+        devices->intrinsics.push_back(info);
+      }
       const std::string link =
           config.sim_laser_link() + "-" + std::to_string(static_cast<long>(getpid()));
       devices->sim_laser =
@@ -116,6 +144,15 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
       devices->camera = camera::MakeStereoCamera(config.camera(), clock, error);
       if (!devices->camera) return false;
       devices->camera_options = camera::MakePipelineOptions(config.camera());
+      const std::string files[2] = {config.camera().left_intrinsics_file(),
+                                    config.camera().right_intrinsics_file()};
+      for (int e = 0; e < 2 && !files[0].empty() && !files[1].empty(); ++e) {
+        camera::CameraIntrinsics k;
+        if (!camera::LoadCameraIntrinsics(Resolve(files[e], config_dir), &k, error)) return false;
+        const camera::StereoCameraInfo camera_info = devices->camera->Info();
+        if (camera_info.width_px > 0) k = k.ScaledTo({camera_info.width_px, camera_info.height_px});
+        devices->intrinsics.push_back(InfoFromIntrinsics(k, e == 0 ? Eye::kLeft : Eye::kRight));
+      }
       devices->laser = laser::MakeSerialLms200Scanner(config.laser(), clock);
       if (!devices->laser) {
         *error = "cannot create the LMS200 driver for " + config.laser().port();
@@ -452,6 +489,11 @@ int Run(int argc, char** argv) {
       next_lease = now + lease_period;
       const ControlLease current = lease.lease();
       node->PublishLease(current);
+      for (size_t e = 0; e < devices.intrinsics.size(); ++e) {
+        CameraIntrinsicsInfo info = devices.intrinsics[e];
+        info.stamp = clock->Now();
+        node->PublishCameraInfo(e == 0 ? Eye::kLeft : Eye::kRight, info);
+      }
       trace.Add(("lease:" + current.holder_id).c_str(), current.stamp, current.lease_sequence);
       if (rec) rec->Write(current);
     }

@@ -114,6 +114,9 @@ TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserve
   EXPECT_LT(strong_at, history.size()) << joined;
   EXPECT_LT(weak_again, history.size()) << joined;
   EXPECT_EQ(find("observer", 0), history.size()) << "an observer held the lease: " << joined;
+  // The simulated cameras' intrinsics reached the clients (camera_info topics).
+  EXPECT_NE(testing::ReadFile(dir_ + "/observer.log").find("using the robot's camera intrinsics"),
+            std::string::npos);
 }
 
 TEST_F(DriveIntegrationTest, KilledPilotStopsTheRobotWithinDeadmanAndRamp) {

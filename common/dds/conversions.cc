@@ -62,6 +62,34 @@ CompressedImage FromIdl(const wire::CompressedImage& image) {
   return out;
 }
 
+wire::CameraInfo ToIdl(const CameraIntrinsicsInfo& info) {
+  wire::CameraInfo out;
+  out.header().stamp(ToIdl(info.stamp));
+  out.header().frame_id(info.frame_id);
+  out.width(static_cast<uint32_t>(info.width_px));
+  out.height(static_cast<uint32_t>(info.height_px));
+  out.distortion_model("plumb_bob");
+  out.d(info.distortion);
+  out.k() = {info.fx, 0, info.cx, 0, info.fy, info.cy, 0, 0, 1};
+  out.r() = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  out.p() = {info.fx, 0, info.cx, 0, 0, info.fy, info.cy, 0, 0, 0, 1, 0};
+  return out;
+}
+
+CameraIntrinsicsInfo FromIdl(const wire::CameraInfo& info) {
+  CameraIntrinsicsInfo out;
+  out.stamp = FromIdl(info.header().stamp());
+  out.frame_id = info.header().frame_id();
+  out.width_px = static_cast<int>(info.width());
+  out.height_px = static_cast<int>(info.height());
+  out.fx = info.k()[0];
+  out.cx = info.k()[2];
+  out.fy = info.k()[4];
+  out.cy = info.k()[5];
+  out.distortion = info.d();
+  return out;
+}
+
 namespace {
 constexpr double kUnknownVariance = 1e6;
 }

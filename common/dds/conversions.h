@@ -17,6 +17,7 @@ namespace wire {
 using Time = builtin_interfaces::msg::dds_::Time_;
 using LaserScan = sensor_msgs::msg::dds_::LaserScan_;
 using CompressedImage = sensor_msgs::msg::dds_::CompressedImage_;
+using CameraInfo = sensor_msgs::msg::dds_::CameraInfo_;
 using Odometry = nav_msgs::msg::dds_::Odometry_;
 using VelocityCommand = mostar_msgs::msg::dds_::VelocityCommand_;
 using EmergencyStop = mostar_msgs::msg::dds_::EmergencyStop_;
@@ -43,6 +44,9 @@ CompressedImage FromIdl(const wire::CompressedImage& image);
 
 // Planar odometry as nav_msgs/Odometry: yaw as a quaternion about z; pose covariance diagonal
 // (x, y, yaw), unknown z/roll/pitch marked with a large variance.
+wire::CameraInfo ToIdl(const CameraIntrinsicsInfo& info);
+CameraIntrinsicsInfo FromIdl(const wire::CameraInfo& info);
+
 wire::Odometry ToIdl(const Odometry& odom);
 Odometry FromIdl(const wire::Odometry& odom);
 

@@ -67,6 +67,33 @@ TEST(ConversionsTest, CompressedImageRoundTrip) {
   EXPECT_EQ(back.data, image.data);
 }
 
+TEST(ConversionsTest, CameraInfoRoundTrip) {
+  CameraIntrinsicsInfo info;
+  info.stamp = kStamp;
+  info.frame_id = "camera_left";
+  info.width_px = 640;
+  info.height_px = 480;
+  info.fx = 440;
+  info.fy = 441;
+  info.cx = 319.5;
+  info.cy = 241;
+  info.distortion = {-0.1, 0.02, 0.001, -0.002, 0};
+  const wire::CameraInfo w = ToIdl(info);
+  EXPECT_EQ(w.distortion_model(), "plumb_bob");
+  EXPECT_DOUBLE_EQ(w.p()[0], 440);
+  const CameraIntrinsicsInfo back =
+      FromIdl(ThroughCdr<sensor_msgs::msg::dds_::CameraInfo_PubSubType>(w));
+  EXPECT_EQ(back.stamp, kStamp);
+  EXPECT_EQ(back.frame_id, "camera_left");
+  EXPECT_EQ(back.width_px, 640);
+  EXPECT_EQ(back.height_px, 480);
+  EXPECT_DOUBLE_EQ(back.fx, 440);
+  EXPECT_DOUBLE_EQ(back.fy, 441);
+  EXPECT_DOUBLE_EQ(back.cx, 319.5);
+  EXPECT_DOUBLE_EQ(back.cy, 241);
+  EXPECT_EQ(back.distortion, info.distortion);
+}
+
 TEST(ConversionsTest, OdometryRoundTrip) {
   Odometry odom;
   odom.stamp = kStamp;

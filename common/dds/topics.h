@@ -7,6 +7,8 @@ namespace mostar::dds::topics {
 // ROS 2 compatible sensor topics.
 inline constexpr const char* kCameraLeft = "rt/mostar/camera/left/image_raw/compressed";
 inline constexpr const char* kCameraRight = "rt/mostar/camera/right/image_raw/compressed";
+inline constexpr const char* kCameraInfoLeft = "rt/mostar/camera/left/camera_info";
+inline constexpr const char* kCameraInfoRight = "rt/mostar/camera/right/camera_info";
 inline constexpr const char* kScan = "rt/mostar/scan";
 inline constexpr const char* kOdometry = "rt/mostar/odom";
 

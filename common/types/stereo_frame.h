@@ -21,6 +21,16 @@ struct CompressedImage {
   std::vector<uint8_t> data;
 };
 
+// Intrinsics of one eye in pixels of the published images (OpenCV conventions).
+struct CameraIntrinsicsInfo {
+  Time stamp;
+  std::string frame_id;     // "camera_left" or "camera_right"
+  int width_px = 0;
+  int height_px = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  std::vector<double> distortion;  // k1 k2 p1 p2 [k3]
+};
+
 struct CompressedStereoPair {
   uint64_t sequence = 0;  // pair counter of the producer
   CompressedImage left;

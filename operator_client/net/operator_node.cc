@@ -35,6 +35,17 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
           self->callbacks_.on_image(Eye::kRight, dds::FromIdl(image));
         }
       });
+  using InfoReader = dds::Reader<sensor_msgs::msg::dds_::CameraInfo_PubSubType>;
+  for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+    auto reader = std::make_unique<InfoReader>(
+        p, eye == Eye::kLeft ? topics::kCameraInfoLeft : topics::kCameraInfoRight, Stream::kState,
+        [self, eye](const dds::wire::CameraInfo& info) {
+          if (self->callbacks_.on_camera_info) {
+            self->callbacks_.on_camera_info(eye, dds::FromIdl(info));
+          }
+        });
+    (eye == Eye::kLeft ? node->left_info_ : node->right_info_) = std::move(reader);
+  }
   node->scan_ = std::make_unique<decltype(node->scan_)::element_type>(
       p, topics::kScan, Stream::kSensor, [self](const dds::wire::LaserScan& scan) {
         if (self->callbacks_.on_scan) self->callbacks_.on_scan(dds::FromIdl(scan));
@@ -68,6 +79,7 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
   node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(p, topics::kClockPing,
                                                                       Stream::kControl);
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
+      !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
       !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {

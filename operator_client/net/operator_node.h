@@ -30,6 +30,7 @@ class OperatorNode {
     std::function<void(const RobotHealth&)> on_health;
     std::function<void(const ControlLease&)> on_lease;
     std::function<void(const ClockProbe&)> on_pong;
+    std::function<void(Eye, const CameraIntrinsicsInfo&)> on_camera_info;
   };
   struct Options {
     std::string client_id = "operator";
@@ -54,6 +55,8 @@ class OperatorNode {
   Callbacks callbacks_;
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> left_;
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> right_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> left_info_;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> right_info_;
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;

@@ -27,6 +27,11 @@ void RobotState::SetOdometry(const Odometry& odometry) {
   snapshot_.odometry = odometry;
 }
 
+void RobotState::SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  (eye == Eye::kLeft ? snapshot_.left_intrinsics : snapshot_.right_intrinsics) = info;
+}
+
 void RobotState::AddClockSample(const ClockProbe& probe) {
   const Time t3 = clock_->Now();
   std::lock_guard<std::mutex> lock(mutex_);

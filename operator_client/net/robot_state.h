@@ -13,6 +13,7 @@
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/stereo_frame.h"
 
 namespace mostar::client {
 
@@ -21,6 +22,8 @@ struct RobotSnapshot {
   std::optional<ControlLease> lease;
   std::optional<Odometry> odometry;
   std::optional<LaserScan> latest_scan;
+  std::optional<CameraIntrinsicsInfo> left_intrinsics;   // published by the robot
+  std::optional<CameraIntrinsicsInfo> right_intrinsics;
   timesync::ClockOffsetEstimate clock;  // robot clock minus this machine's clock
   double scan_rate_hz = 0;
   uint64_t scans = 0;
@@ -36,6 +39,7 @@ class RobotState {
   void SetHealth(const RobotHealth& health);
   void SetLease(const ControlLease& lease);
   void SetOdometry(const Odometry& odometry);
+  void SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info);
   // A pong for one of our pings; t3 is taken now.
   void AddClockSample(const ClockProbe& probe);
 

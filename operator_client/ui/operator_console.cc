@@ -156,6 +156,37 @@ bool OperatorConsole::Init(std::string* error) {
   return true;
 }
 
+void OperatorConsole::ApplyRobotIntrinsics(const client::RobotSnapshot& robot) {
+  if (!options_.intrinsics_from_robot || !robot.left_intrinsics) return;
+  const CameraIntrinsicsInfo& k = *robot.left_intrinsics;
+  if (applied_intrinsics_ && applied_intrinsics_->fx == k.fx && applied_intrinsics_->fy == k.fy &&
+      applied_intrinsics_->cx == k.cx && applied_intrinsics_->cy == k.cy &&
+      applied_intrinsics_->distortion == k.distortion) {
+    return;
+  }
+  applied_intrinsics_ = k;
+  math::LaserCameraCalibration next = options_.calibration;
+  if (k.width_px != next.image_width_px || k.height_px != next.image_height_px) {
+    status_line_ = "robot intrinsics are for " + std::to_string(k.width_px) + "x" +
+                   std::to_string(k.height_px) + " images: not used";
+    return;
+  }
+  next.focal_px = k.fx;
+  next.focal_y_px = k.fy;
+  next.principal_x_px = k.cx;
+  next.principal_y_px = k.cy;
+  const auto d = [&k](size_t i) { return i < k.distortion.size() ? k.distortion[i] : 0.0; };
+  next.distortion = {d(0), d(1), d(2), d(3), d(4)};
+  std::string error;
+  if (next.IsValid(&error)) {
+    options_.calibration = next;
+    MOSTAR_LOG(INFO) << "using the robot's camera intrinsics: f " << k.fx << "/" << k.fy
+                     << " px, principal point (" << k.cx << ", " << k.cy << ")";
+  } else {
+    status_line_ = "robot intrinsics refused: " + error;
+  }
+}
+
 void OperatorConsole::ManageLease(const client::RobotSnapshot& robot) {
   const SteadyTime now = clock_->SteadyNow();
   holding_lease_ = robot.lease && robot.lease->holder_id == options_.client_id;
@@ -267,7 +298,11 @@ void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
 
 bool OperatorConsole::Frame() {
   Window::PollEvents();
-  ManageLease(robot_->Snapshot());
+  {
+    const client::RobotSnapshot snapshot = robot_->Snapshot();
+    ManageLease(snapshot);
+    ApplyRobotIntrinsics(snapshot);
+  }
   HandleInput();
   UpdateVision(video_->Latest());
   const std::optional<client::DecodedStereoPair>& pair = shown_pair_;

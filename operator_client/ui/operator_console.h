@@ -45,6 +45,8 @@ struct ConsoleOptions {
   // Edge processing (thesis 8, 9.2): NEPs correct the overlay, mark obstacles the laser
   // missed and confirm outliers. Toggled with E; thresholds in the edge view (V).
   bool vision_enabled = true;
+  // Use the intrinsics the robot publishes (focal, principal point, distortion).
+  bool intrinsics_from_robot = true;
   vision::VisionOptions vision;
   render::EyeAlignment left_alignment;  // thesis 9.1 stereo alignment (image offsets, crop)
   render::EyeAlignment right_alignment;
@@ -102,6 +104,8 @@ class OperatorConsole {
   std::optional<DriveOutput> scripted_drive_;
   DriveOutput drive_;
   void ManageLease(const client::RobotSnapshot& robot);
+  void ApplyRobotIntrinsics(const client::RobotSnapshot& robot);
+  std::optional<CameraIntrinsicsInfo> applied_intrinsics_;
 
   std::unique_ptr<vision::EdgeWorker> edge_worker_;
   std::shared_ptr<const math::CameraModel> left_model_;

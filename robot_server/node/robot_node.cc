@@ -30,6 +30,10 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       std::make_unique<decltype(node->left_)::element_type>(p, topics::kCameraLeft, Stream::kVideo);
   node->right_ = std::make_unique<decltype(node->right_)::element_type>(p, topics::kCameraRight,
                                                                         Stream::kVideo);
+  node->left_info_ = std::make_unique<decltype(node->left_info_)::element_type>(
+      p, topics::kCameraInfoLeft, Stream::kState);
+  node->right_info_ = std::make_unique<decltype(node->right_info_)::element_type>(
+      p, topics::kCameraInfoRight, Stream::kState);
   node->scan_ =
       std::make_unique<decltype(node->scan_)::element_type>(p, topics::kScan, Stream::kSensor);
   node->odom_ =
@@ -62,6 +66,7 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       p, topics::kClockPing, Stream::kControl,
       [self](const dds::wire::ClockProbe& ping) { self->OnPing(dds::FromIdl(ping)); });
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
+      !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
       !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {
@@ -105,6 +110,10 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
   const bool left_ok = left_->Write(dds::ToIdl(pair.left));
   const bool right_ok = right_->Write(dds::ToIdl(pair.right));
   return left_ok && right_ok;
+}
+
+void RobotNode::PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) {
+  (eye == Eye::kLeft ? left_info_ : right_info_)->Write(dds::ToIdl(info));
 }
 
 void RobotNode::PublishImage(Eye eye, const CompressedImage& image) {

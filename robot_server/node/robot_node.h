@@ -42,6 +42,8 @@ class RobotNode {
   // Both eyes; false when the pair was not sent: skipped at the source because readers have not
   // acknowledged the previous one yet (ack-clock), or refused by DDS.
   bool PublishStereo(const CompressedStereoPair& pair);
+  // Intrinsics of one eye (transient local: late joiners get them at once).
+  void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info);
   // One eye, unconditionally (replay).
   void PublishImage(Eye eye, const CompressedImage& image);
   void PublishScan(const LaserScan& scan);
@@ -68,6 +70,8 @@ class RobotNode {
   std::map<std::string, ClockProbe> last_pong_;  // per client: the pong we sent last
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> left_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> right_;
+  std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> left_info_;
+  std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> right_info_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;
