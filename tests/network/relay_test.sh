@@ -10,7 +10,11 @@ work=$(mktemp -d /tmp/mostar_relay_XXXXXX)
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  sleep 1
+  # Anything still running from this test (grandchildren under xvfb-run or ip netns exec
+  # included) would keep CTest waiting on its output: kill it by its work directory.
+  pkill -9 -f "$work" 2>/dev/null || true
+  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
   if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
 }
 trap cleanup EXIT

@@ -24,6 +24,9 @@ work=$(mktemp -d /tmp/mostar_sec_XXXXXX)
 robot_pid=""
 cleanup() {
   [ -z "$robot_pid" ] || kill "$robot_pid" 2>/dev/null || true
+  sleep 1
+  pkill -9 -f "$work" 2>/dev/null || true
+  [ -z "$robot_pid" ] || kill -9 "$robot_pid" 2>/dev/null || true
   [ -z "$robot_pid" ] || wait "$robot_pid" 2>/dev/null || true
   ip netns del "$ns" 2>/dev/null || true
   if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
