@@ -75,11 +75,11 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
                             recording, "--loop", "--trace", dir_ + "/replayed.csv"},
                            dir_ + "/replay.log", &error));
   Subprocess client;
-  ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
-                            domain_, "--role", "observer", "--id", "observer", "--duration", "8",
-                            "--trace", dir_ + "/client.csv", "--screenshot", dir_ + "/replay.png",
-                            "--record", dir_ + "/observer.mostar"},
-                           dir_ + "/client.log", &error));
+  ASSERT_TRUE(client.Start(
+      {Bin("operator_client/operator_client"), "--headless", "--domain", domain_, "--role",
+       "observer", "--id", "observer", "--duration", "8", "--trace", dir_ + "/client.csv",
+       "--screenshot", dir_ + "/replay.png", "--record", dir_ + "/observer.mostar"},
+      dir_ + "/client.log", &error));
   const auto client_code = client.Wait(std::chrono::seconds(60));
   replay.Signal(SIGTERM);
   ASSERT_TRUE(replay.Wait(std::chrono::seconds(20)).has_value());

@@ -24,7 +24,7 @@ struct CompressedImage {
 // Intrinsics of one eye in pixels of the published images (OpenCV conventions).
 struct CameraIntrinsicsInfo {
   Time stamp;
-  std::string frame_id;     // "camera_left" or "camera_right"
+  std::string frame_id;  // "camera_left" or "camera_right"
   int width_px = 0;
   int height_px = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;

@@ -22,7 +22,7 @@ struct RobotSnapshot {
   std::optional<ControlLease> lease;
   std::optional<Odometry> odometry;
   std::optional<LaserScan> latest_scan;
-  std::optional<CameraIntrinsicsInfo> left_intrinsics;   // published by the robot
+  std::optional<CameraIntrinsicsInfo> left_intrinsics;  // published by the robot
   std::optional<CameraIntrinsicsInfo> right_intrinsics;
   timesync::ClockOffsetEstimate clock;  // robot clock minus this machine's clock
   double scan_rate_hz = 0;
