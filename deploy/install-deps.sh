@@ -19,7 +19,7 @@ PACKAGES=(
   # fuzzing (libFuzzer)
   clang libclang-rt-14-dev
   # tools used by the tests (network namespaces, shaping)
-  iproute2 procps
+  iproute2 procps openssl bc
 )
 
 missing=()
