@@ -357,6 +357,7 @@ int Run(int argc, char** argv) {
     const drive::CommandVerdict verdict = governor.HandleCommand(cmd, offset);
     if (verdict == drive::CommandVerdict::kAccepted) {
       trace.Add("command", cmd.stamp, cmd.sequence);
+      trace.Add("command_rx", clock->Now(), cmd.sequence);  // robot clock, on arrival
       if (recorder_ptr != nullptr) recorder_ptr.load()->Write(cmd);
     } else {
       MOSTAR_LOG_EVERY_SEC(DEBUG, 2) << "command " << cmd.sequence << " from " << cmd.sender_id

@@ -126,16 +126,17 @@ TEST_F(DriveIntegrationTest, KilledPilotStopsTheRobotWithinDeadmanAndRamp) {
   StartClient(&pilot, "operator", "pilot", 60, "0.3,0");
   // Drive for a while (lease, arming, then ~2 s of motion), then kill the pilot without any
   // goodbye.
-  std::this_thread::sleep_for(std::chrono::seconds(5));
+  std::this_thread::sleep_for(std::chrono::seconds(7));
   pilot.Signal(SIGKILL);
   ASSERT_TRUE(pilot.Wait(std::chrono::seconds(10)).has_value());
   std::this_thread::sleep_for(std::chrono::seconds(2));
   server.Signal(SIGTERM);
   ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value());
 
+  // When the last accepted command arrived, on the robot's clock (the deadman counts from there).
   int64_t last_command_ns = 0;
   for (const TraceLine& t : ReadTrace(dir_ + "/server.csv")) {
-    if (t.topic == "command") last_command_ns = std::max(last_command_ns, t.stamp_ns);
+    if (t.topic == "command_rx") last_command_ns = std::max(last_command_ns, t.stamp_ns);
   }
   ASSERT_GT(last_command_ns, 0) << "no command was accepted: "
                                 << testing::ReadFile(dir_ + "/server.log");
@@ -153,14 +154,17 @@ TEST_F(DriveIntegrationTest, KilledPilotStopsTheRobotWithinDeadmanAndRamp) {
     if (stopped_ns < 0 && t.sequence == 0) stopped_ns = t.stamp_ns;
   }
   // The governor may already have slowed down for obstacles ahead; it must be moving.
-  ASSERT_GT(speed_at_cut, 50u) << "the robot was not driving when the pilot died";
+  ASSERT_GT(speed_at_cut, 20u) << "the robot was not driving when the pilot died";
   ASSERT_GT(first_drop_ns, 0);
   ASSERT_GT(stopped_ns, 0) << "the robot never stopped";
   const double deadman_s = 0.25, cycle_s = 0.02, decel_mps2 = 1.0;
-  // Command stamps are taken before sending; allow the 50 ms command period on top.
-  EXPECT_LE((first_drop_ns - last_command_ns) * 1e-9, deadman_s + cycle_s + 0.05);
+  // Deadman plus one control cycle, plus 100 ms for scheduling: here the robot, the simulator's
+  // renderer, a software-OpenGL client and other tests share two cores. The exact bound is
+  // checked with an injected clock in SafetyGovernorTest.DeadmanRampsToZeroWithinPeriodPlusOneCycle.
+  const double scheduling_slack_s = 0.1;
+  EXPECT_LE((first_drop_ns - last_command_ns) * 1e-9, deadman_s + cycle_s + scheduling_slack_s);
   EXPECT_LE((stopped_ns - last_command_ns) * 1e-9,
-            deadman_s + speed_at_cut * 1e-3 / decel_mps2 + 2 * cycle_s + 0.05);
+            deadman_s + speed_at_cut * 1e-3 / decel_mps2 + 2 * cycle_s + scheduling_slack_s);
 }
 
 }  // namespace

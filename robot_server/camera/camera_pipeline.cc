@@ -1,5 +1,9 @@
 #include "robot_server/camera/camera_pipeline.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -88,7 +92,12 @@ void CameraPipeline::SetState(DeviceState state, const std::string& message) {
   message_ = message;
 }
 
+void LowerCurrentThreadPriority() {
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 5);
+}
+
 void CameraPipeline::CaptureLoop() {
+  LowerCurrentThreadPriority();
   bool opened_before = false;
   int consecutive_timeouts = 0;
   uint64_t captured = 0;
@@ -187,6 +196,7 @@ void CameraPipeline::CaptureLoop() {
 }
 
 void CameraPipeline::CompressLoop() {
+  LowerCurrentThreadPriority();
   BitrateController controller(options_.bitrate);
   JpegCompressor compressor(options_.parallel_compression);
   CompressedStereoPair out;

@@ -1,4 +1,5 @@
 #include "robot_server/camera/jpeg_compressor.h"
+#include "robot_server/camera/camera_pipeline.h"
 
 // jpeglib.h needs FILE and size_t declared first.
 #include <jpeglib.h>
@@ -201,7 +202,12 @@ bool JpegDecoder::Decode(const uint8_t* data, size_t size, cv::Mat* bgr, std::st
 }
 
 JpegCompressor::JpegCompressor(bool parallel) : parallel_(parallel) {
-  if (parallel_) worker_ = std::thread([this] { WorkerLoop(); });
+  if (parallel_) {
+    worker_ = std::thread([this] {
+      LowerCurrentThreadPriority();
+      WorkerLoop();
+    });
+  }
 }
 
 JpegCompressor::~JpegCompressor() {
