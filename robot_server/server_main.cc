@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "common/config/config_loader.h"
@@ -171,8 +172,44 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
 
 // Publishes a recording on DDS as the robot would, until its end (or forever with `loop`) or a
 // signal. Stamps are those of the recording. Velocity commands are not acted on.
-int RunReplay(const std::string& path, double rate, bool loop, RobotNode* node, StampTrace* trace,
-              double duration_s) {
+// Replay controls read line by line from standard input (when it is open): "p" pause/resume,
+// "s [N]" step N records while paused, "r RATE" speed, "q" stop. Unknown lines are reported.
+void ReadReplayControls(std::shared_ptr<record::ReplayPlayer> player) {
+  std::string line;
+  while (!g_stop && std::getline(std::cin, line)) {
+    std::istringstream in(line);
+    std::string command;
+    in >> command;
+    if (command == "p") {
+      if (player->paused()) {
+        player->Resume();
+      } else {
+        player->Pause();
+      }
+      MOSTAR_LOG(INFO) << "replay " << (player->paused() ? "paused" : "resumed");
+    } else if (command == "s") {
+      int count = 1;
+      in >> count;
+      player->Step(std::max(1, count));
+    } else if (command == "r") {
+      double rate = 0;
+      if (in >> rate && rate > 0) {
+        player->SetRate(rate);
+        MOSTAR_LOG(INFO) << "replay rate " << rate;
+      } else {
+        MOSTAR_LOG(WARNING) << "replay control: 'r' needs a positive rate";
+      }
+    } else if (command == "q") {
+      g_stop = true;
+    } else if (!command.empty()) {
+      MOSTAR_LOG(WARNING) << "replay control: unknown command '" << command
+                          << "' (p pause/resume, s [N] step, r RATE, q quit)";
+    }
+  }
+}
+
+int RunReplay(const std::string& path, double rate, bool loop, bool start_paused, RobotNode* node,
+              StampTrace* trace, double duration_s) {
   std::string error;
   auto reader = record::RecordingReader::Open(path, &error);
   if (!reader) {
@@ -182,18 +219,23 @@ int RunReplay(const std::string& path, double rate, bool loop, RobotNode* node, 
   record::ReplayOptions options;
   options.rate = rate;
   options.loop = loop;
+  options.start_paused = start_paused;
   if (!options.IsValid(&error)) {
     std::cerr << "robot_server: --replay-rate: " << error << "\n";
     return 2;
   }
   const Clock* clock = &SystemClock::Instance();
-  record::ReplayPlayer player(reader.get(), *clock, options);
-  MOSTAR_LOG(INFO) << "replaying " << path << " (robot '" << reader->info().robot_id << "') at "
-                   << rate << "x" << (loop ? ", looping" : "");
+  // Shared with the stdin reader, which may outlive this function (blocked in getline).
+  auto player = std::make_shared<record::ReplayPlayer>(reader.get(), *clock, options);
+  std::shared_ptr<record::RecordingReader> reader_keepalive = std::move(reader);
+  MOSTAR_LOG(INFO) << "replaying " << path << " (robot '" << reader_keepalive->info().robot_id
+                   << "') at " << rate << "x" << (loop ? ", looping" : "");
   const SteadyTime start = clock->SteadyNow();
   uint64_t published = 0;
-  while (!g_stop && !player.finished()) {
-    for (const record::RecordedMessage& m : player.PollDue()) {
+  // Controls on standard input; detached because getline cannot be interrupted.
+  std::thread([player, reader_keepalive] { ReadReplayControls(player); }).detach();
+  while (!g_stop && !player->finished()) {
+    for (const record::RecordedMessage& m : player->PollDue()) {
       ++published;
       std::visit(
           [&](const auto& p) {
@@ -215,13 +257,14 @@ int RunReplay(const std::string& path, double rate, bool loop, RobotNode* node, 
           m.payload);
     }
     if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
-    const std::optional<SteadyTime> next = player.NextDueTime();
+    const std::optional<SteadyTime> next = player->NextDueTime();
     const SteadyTime wake = clock->SteadyNow() + std::chrono::milliseconds(50);
     std::this_thread::sleep_until(next ? std::min(*next, wake) : wake);
   }
-  if (reader->damage()) {
-    MOSTAR_LOG(WARNING) << "recording damaged at byte " << reader->damage()->offset << ": "
-                        << reader->damage()->reason << " (replayed everything before it)";
+  if (reader_keepalive->damage()) {
+    MOSTAR_LOG(WARNING) << "recording damaged at byte " << reader_keepalive->damage()->offset
+                        << ": " << reader_keepalive->damage()->reason
+                        << " (replayed everything before it)";
   }
   MOSTAR_LOG(INFO) << "replay done: " << published << " records published";
   trace->Flush();
@@ -244,11 +287,15 @@ int Run(int argc, char** argv) {
   std::string replay_path;
   double replay_rate = 1.0;
   bool replay_loop = false;
+  bool replay_paused = false;
   app.add_option("--record", record_path, "record everything published (and accepted commands)");
   app.add_option("--replay", replay_path, "publish this recording instead of live devices")
       ->check(CLI::ExistingFile);
   app.add_option("--replay-rate", replay_rate, "replay speed factor")->check(CLI::PositiveNumber);
   app.add_flag("--loop", replay_loop, "replay in a loop");
+  app.add_flag("--replay-paused", replay_paused,
+               "start the replay paused; control it on stdin: p pause/resume, s [N] step, "
+               "r RATE, q quit");
   app.add_option("-c,--config", config_path, "server configuration (protobuf text format)")
       ->check(CLI::ExistingFile);
   app.add_option("--domain", domain, "DDS domain id (default: config, then MOSTAR_DDS_DOMAIN)")
@@ -314,7 +361,8 @@ int Run(int argc, char** argv) {
     }
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
-    return RunReplay(replay_path, replay_rate, replay_loop, replay_node.get(), &trace, duration_s);
+    return RunReplay(replay_path, replay_rate, replay_loop, replay_paused, replay_node.get(),
+                     &trace, duration_s);
   }
   Devices devices;
   if (!MakeDevices(config, scene_dir, clock, &settings, &devices, &error)) {

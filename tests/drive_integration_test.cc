@@ -160,7 +160,8 @@ TEST_F(DriveIntegrationTest, KilledPilotStopsTheRobotWithinDeadmanAndRamp) {
   const double deadman_s = 0.25, cycle_s = 0.02, decel_mps2 = 1.0;
   // Deadman plus one control cycle, plus 100 ms for scheduling: here the robot, the simulator's
   // renderer, a software-OpenGL client and other tests share two cores. The exact bound is
-  // checked with an injected clock in SafetyGovernorTest.DeadmanRampsToZeroWithinPeriodPlusOneCycle.
+  // checked with an injected clock in
+  // SafetyGovernorTest.DeadmanRampsToZeroWithinPeriodPlusOneCycle.
   const double scheduling_slack_s = 0.1;
   EXPECT_LE((first_drop_ns - last_command_ns) * 1e-9, deadman_s + cycle_s + scheduling_slack_s);
   EXPECT_LE((stopped_ns - last_command_ns) * 1e-9,

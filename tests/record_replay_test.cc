@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "common/dds/domain.h"
 #include "common/testing/subprocess.h"
@@ -110,6 +111,29 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
     EXPECT_EQ(*code, 0) << summary;
     EXPECT_NE(summary.find("camera/left"), std::string::npos) << summary;
     EXPECT_NE(summary.find("scan"), std::string::npos) << summary;
+  }
+
+  // Paused replay, stepped from standard input: exactly the stepped records are published.
+  {
+    Subprocess stepped;
+    ASSERT_TRUE(
+        stepped.StartWithStdin({Bin("robot_server/robot_server"), "--domain", domain_, "--replay",
+                                recording, "--replay-paused", "--trace", dir_ + "/stepped.csv"},
+                               dir_ + "/stepped.log", &error));
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    ASSERT_TRUE(stepped.WriteStdin("s 40\n"));
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    ASSERT_TRUE(stepped.WriteStdin("q\n"));
+    const auto code = stepped.Wait(std::chrono::seconds(30));
+    ASSERT_TRUE(code.has_value()) << "replay did not quit on 'q'";
+    EXPECT_EQ(*code, 0) << testing::ReadFile(dir_ + "/stepped.log");
+    // 40 records of every kind were published; the trace holds the images and scans among them.
+    size_t traced = 0;
+    for (const auto& t : ReadTrace(dir_ + "/stepped.csv")) {
+      traced += t.topic == "left" || t.topic == "right" || t.topic == "scan";
+    }
+    EXPECT_GT(traced, 0u);
+    EXPECT_LE(traced, 40u);
   }
 
   // A truncated copy replays up to the damage and says where it is.

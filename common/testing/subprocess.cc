@@ -13,6 +13,7 @@
 namespace mostar::testing {
 
 Subprocess::~Subprocess() {
+  CloseStdin();
   if (pid_ > 0) {
     ::kill(pid_, SIGKILL);
     ::waitpid(pid_, nullptr, 0);
@@ -21,6 +22,26 @@ Subprocess::~Subprocess() {
 
 bool Subprocess::Start(const std::vector<std::string>& argv, const std::string& output_path,
                        std::string* error) {
+  return StartImpl(argv, output_path, false, error);
+}
+
+bool Subprocess::StartWithStdin(const std::vector<std::string>& argv,
+                                const std::string& output_path, std::string* error) {
+  return StartImpl(argv, output_path, true, error);
+}
+
+bool Subprocess::WriteStdin(const std::string& text) {
+  if (stdin_fd_ < 0) return false;
+  return ::write(stdin_fd_, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+}
+
+void Subprocess::CloseStdin() {
+  if (stdin_fd_ >= 0) ::close(stdin_fd_);
+  stdin_fd_ = -1;
+}
+
+bool Subprocess::StartImpl(const std::vector<std::string>& argv, const std::string& output_path,
+                           bool with_stdin, std::string* error) {
   if (argv.empty()) {
     *error = "empty argv";
     return false;
@@ -33,6 +54,12 @@ bool Subprocess::Start(const std::vector<std::string>& argv, const std::string& 
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  int pipe_fds[2] = {-1, -1};
+  if (with_stdin && ::pipe(pipe_fds) != 0) {
+    ::close(fd);
+    *error = "pipe failed";
+    return false;
+  }
   pid_ = ::fork();
   if (pid_ < 0) {
     ::close(fd);
@@ -40,6 +67,11 @@ bool Subprocess::Start(const std::vector<std::string>& argv, const std::string& 
     return false;
   }
   if (pid_ == 0) {
+    if (with_stdin) {
+      ::dup2(pipe_fds[0], STDIN_FILENO);
+      ::close(pipe_fds[0]);
+      ::close(pipe_fds[1]);
+    }
     ::dup2(fd, STDOUT_FILENO);
     ::dup2(fd, STDERR_FILENO);
     ::close(fd);
@@ -47,6 +79,10 @@ bool Subprocess::Start(const std::vector<std::string>& argv, const std::string& 
     ::_exit(127);
   }
   ::close(fd);
+  if (with_stdin) {
+    ::close(pipe_fds[0]);
+    stdin_fd_ = pipe_fds[1];
+  }
   return true;
 }
 

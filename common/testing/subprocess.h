@@ -20,6 +20,12 @@ class Subprocess {
   // argv[0] is the executable path. stdout and stderr go to `output_path`.
   bool Start(const std::vector<std::string>& argv, const std::string& output_path,
              std::string* error);
+  // The same with the child's standard input connected to a pipe (see WriteStdin).
+  bool StartWithStdin(const std::vector<std::string>& argv, const std::string& output_path,
+                      std::string* error);
+  // Writes to the child's standard input; false when there is no pipe or the write failed.
+  bool WriteStdin(const std::string& text);
+  void CloseStdin();
   // Sends a signal (e.g. SIGTERM).
   void Signal(int signal);
   // Waits up to `timeout` for the exit; the exit code (128+signal when killed), or nullopt on
@@ -28,7 +34,10 @@ class Subprocess {
   bool running() const { return pid_ > 0; }
 
  private:
+  bool StartImpl(const std::vector<std::string>& argv, const std::string& output_path,
+                 bool with_stdin, std::string* error);
   pid_t pid_ = -1;
+  int stdin_fd_ = -1;
 };
 
 // Reads a whole file ("" when missing).

@@ -1,4 +1,5 @@
 #include "robot_server/camera/jpeg_compressor.h"
+
 #include "robot_server/camera/camera_pipeline.h"
 
 // jpeglib.h needs FILE and size_t declared first.
