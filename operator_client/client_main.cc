@@ -93,6 +93,9 @@ int Run(int argc, char** argv) {
   int max_frames = 0;
   double duration_s = 0;
   std::string screenshot;
+  int64_t capture_stamp_ns = -1;
+  int capture_after = -1;
+  bool no_hud = false;
   std::vector<double> scripted_drive;
   std::string trace_path;
   std::string record_path;
@@ -121,6 +124,17 @@ int Run(int argc, char** argv) {
   app.add_option("--duration", duration_s, "exit after this many seconds")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--screenshot", screenshot, "write the last rendered frame to this PNG");
+  auto* capture_stamp_option =
+      app.add_option("--capture-stamp", capture_stamp_ns,
+                     "render only the pair with this capture stamp (ns since the epoch) once its "
+                     "scans are in, write it to --screenshot and exit (reproducible screenshots)")
+          ->check(CLI::NonNegativeNumber);
+  app.add_option("--capture-after", capture_after,
+                 "like --capture-stamp for the first pair decoded after this many; the report "
+                 "gives its stamp (captured_stamp_ns)")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(capture_stamp_option);
+  app.add_flag("--no-hud", no_hud, "hide the HUD (changing rates and ages; H toggles it)");
   app.add_option("--drive", scripted_drive, "scripted command V,W (m/s, rad/s) held throughout")
       ->expected(2)
       ->delimiter(',');
@@ -149,6 +163,7 @@ int Run(int argc, char** argv) {
   console_options.client_id = client_id;
   console_options.pilot = role == "pilot";
   console_options.headless = headless;
+  if (no_hud) console_options.show_hud = false;
   console_options.show_calibration_panel = calibration_panel;
   if (!calibration_path.empty()) console_options.calibration_path = calibration_path;
   if (!render::ParseDisplayMode(display, &console_options.mode)) {
@@ -277,6 +292,8 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
+  const bool capture = capture_stamp_ns >= 0 || capture_after >= 0;
+  if (capture_stamp_ns >= 0) console.CapturePair(FromUnixNanos(capture_stamp_ns));
   if (scripted_drive.size() == 2) {
     console.SetScriptedDrive({scripted_drive[0], scripted_drive[1], true});
   }
@@ -288,7 +305,12 @@ int Run(int argc, char** argv) {
   std::signal(SIGTERM, OnSignal);
   const SteadyTime start = clock->SteadyNow();
   while (!g_stop && !window->ShouldClose()) {
+    if (capture_after >= 0 && !console.capturing() &&
+        video.Stats().pairs_decoded >= static_cast<uint64_t>(capture_after)) {
+      console.CapturePair(std::nullopt);
+    }
     if (!console.Frame() && headless) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (console.captured()) break;
     if (max_frames > 0 && console.rendered_pairs() >= static_cast<uint64_t>(max_frames)) break;
     if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
   }
@@ -298,7 +320,12 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: recording: " << error << "\n";
   }
   trace.Flush();
-  if (!screenshot.empty()) {
+  if (capture && !console.captured()) {
+    std::cerr << "operator_client: the pair to capture was not rendered"
+              << (console.captured_stamp() ? " (its scans or edge result did not arrive)"
+                                           : " (it did not arrive)")
+              << "; no screenshot written\n";
+  } else if (!screenshot.empty()) {
     if (console.last_frame().empty()) {
       std::cerr << "operator_client: no video frame was rendered; no screenshot written\n";
     } else if (!cv::imwrite(screenshot, console.last_frame())) {
@@ -314,8 +341,12 @@ int Run(int argc, char** argv) {
             << " display_age_ms_p50=" << console.DisplayAgePercentileMs(50)
             << " display_age_ms_p95=" << console.DisplayAgePercentileMs(95)
             << " frame_time_ms_p50=" << console.FrameTimePercentileMs(50)
-            << " frame_time_ms_p95=" << console.FrameTimePercentileMs(95) << "\n";
-  return 0;
+            << " frame_time_ms_p95=" << console.FrameTimePercentileMs(95);
+  if (console.captured()) {
+    std::cout << " captured_stamp_ns=" << ToUnixNanos(*console.captured_stamp());
+  }
+  std::cout << "\n";
+  return capture && !console.captured() ? 1 : 0;
 }
 
 }  // namespace

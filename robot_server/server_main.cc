@@ -33,6 +33,9 @@
 #include "robot_server/drive/serial_drive_motors.h"
 #include "robot_server/laser/lms200_scanner.h"
 #include "robot_server/node/robot_node.h"
+#include "robot_server/replay/replay_laser_scanner.h"
+#include "robot_server/replay/replay_stereo_camera.h"
+#include "robot_server/replay/replay_timeline.h"
 #include "robot_server/server_config.pb.h"
 #include "robot_server/sim/scene.h"
 #include "robot_server/sim/sim_world.h"
@@ -60,7 +63,7 @@ struct Devices {
   std::unique_ptr<testpattern::KinematicRobot> pattern_robot;
   std::unique_ptr<sim::SimWorld> world;
   std::unique_ptr<sim::SimulatedLms200> sim_laser;
-  std::unique_ptr<laser::LaserScanner> laser;  // HARDWARE
+  std::unique_ptr<laser::LaserScanner> laser;  // HARDWARE or replay
   laser::LaserScanner* scanner = nullptr;      // the laser in use, if any
   std::unique_ptr<drive::DriveMotors> motors;
   std::unique_ptr<camera::StereoCamera> camera;
@@ -82,8 +85,15 @@ CameraIntrinsicsInfo InfoFromIntrinsics(const camera::CameraIntrinsics& k, Eye e
   return info;
 }
 
-bool MakeDevices(const ServerConfig& config, const std::string& config_dir, const Clock* clock,
-                 drive::DriveSettings* settings, Devices* devices, std::string* error) {
+bool ReplaysCamera(const ServerConfig& config) {
+  return config.camera().backend() == camera::CameraConfig::REPLAY;
+}
+bool ReplaysLaser(const ServerConfig& config) { return !config.laser().replay().file().empty(); }
+
+// The devices of the configured source; a camera or laser that a replay replaces is not made.
+bool MakeSourceDevices(const ServerConfig& config, const std::string& config_dir,
+                       const Clock* clock, drive::DriveSettings* settings, Devices* devices,
+                       std::string* error) {
   switch (config.source()) {
     case ServerConfig::TEST_PATTERN: {
       const TestPatternConfig& tp = config.test_pattern();
@@ -118,8 +128,10 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
       settings->odometry.counter_bits = drive.encoder_counter_bits;
       settings->odometry.axle_x_m = drive.axle_x_m;
       devices->motors = std::make_unique<sim::SimDriveMotors>(devices->world.get(), clock);
-      devices->camera = std::make_unique<sim::SimStereoCamera>(
-          devices->world.get(), config.test_pattern().frame_rate_hz(), clock);
+      if (!ReplaysCamera(config)) {
+        devices->camera = std::make_unique<sim::SimStereoCamera>(
+            devices->world.get(), config.test_pattern().frame_rate_hz(), clock);
+      }
       devices->camera_options.bitrate.initial_quality = config.test_pattern().jpeg_quality();
       const sim::LaserCameraCalibration& truth = devices->world->calibration();
       for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
@@ -133,6 +145,7 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
         info.distortion = {truth.k1, truth.k2, 0, 0, 0};
         devices->intrinsics.push_back(info);
       }
+      if (ReplaysLaser(config)) return true;
       const std::string link =
           config.sim_laser_link() + "-" + std::to_string(static_cast<long>(getpid()));
       devices->sim_laser =
@@ -142,24 +155,29 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
       return true;
     }
     case ServerConfig::HARDWARE: {
-      devices->camera = camera::MakeStereoCamera(config.camera(), clock, error);
-      if (!devices->camera) return false;
+      if (!ReplaysCamera(config)) {
+        devices->camera = camera::MakeStereoCamera(config.camera(), clock, error);
+        if (!devices->camera) return false;
+      }
       devices->camera_options = camera::MakePipelineOptions(config.camera());
       const std::string files[2] = {config.camera().left_intrinsics_file(),
                                     config.camera().right_intrinsics_file()};
       for (int e = 0; e < 2 && !files[0].empty() && !files[1].empty(); ++e) {
         camera::CameraIntrinsics k;
         if (!camera::LoadCameraIntrinsics(Resolve(files[e], config_dir), &k, error)) return false;
-        const camera::StereoCameraInfo camera_info = devices->camera->Info();
+        const camera::StereoCameraInfo camera_info =
+            devices->camera ? devices->camera->Info() : camera::StereoCameraInfo{};
         if (camera_info.width_px > 0) k = k.ScaledTo({camera_info.width_px, camera_info.height_px});
         devices->intrinsics.push_back(InfoFromIntrinsics(k, e == 0 ? Eye::kLeft : Eye::kRight));
       }
-      devices->laser = laser::MakeSerialLms200Scanner(config.laser(), clock);
-      if (!devices->laser) {
-        *error = "cannot create the LMS200 driver for " + config.laser().port();
-        return false;
+      if (!ReplaysLaser(config)) {
+        devices->laser = laser::MakeSerialLms200Scanner(config.laser(), clock);
+        if (!devices->laser) {
+          *error = "cannot create the LMS200 driver for " + config.laser().port();
+          return false;
+        }
+        devices->scanner = devices->laser.get();
       }
-      devices->scanner = devices->laser.get();
       auto motors = drive::SerialDriveMotors::Open(*clock, settings->motors, error);
       if (!motors) return false;
       devices->motors = std::move(motors);
@@ -168,6 +186,65 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
   }
   *error = "unknown source";
   return false;
+}
+
+// The source's devices, then the replay backends (robot_server/replay) in place of its camera
+// (camera.backend REPLAY) and laser (laser.replay.file): the live pipeline, scan path, motors
+// and odometry run on recorded images and scans. Both replays of one file share a timeline.
+bool MakeDevices(const ServerConfig& config, const std::string& config_dir, const Clock* clock,
+                 drive::DriveSettings* settings, Devices* devices, std::string* error) {
+  if (!MakeSourceDevices(config, config_dir, clock, settings, devices, error)) return false;
+  std::map<std::string, std::shared_ptr<replay::ReplayTimeline>> timelines;
+  auto timeline_for = [&](const std::string& key, const std::string& path, double rate,
+                          bool loop) -> std::shared_ptr<replay::ReplayTimeline> {
+    auto it = timelines.find(path);
+    if (it != timelines.end()) {
+      if (it->second->options().rate != rate || it->second->options().loop != loop) {
+        *error = key + ": camera.replay and laser.replay of " + path +
+                 " must have the same rate and loop";
+        return nullptr;
+      }
+      return it->second;
+    }
+    replay::ReplayTimelineOptions options;
+    options.rate = rate;
+    options.loop = loop;
+    auto timeline = replay::ReplayTimeline::ForRecording(path, *clock, options, error);
+    if (!timeline) {
+      *error = key + ": " + *error;
+      return nullptr;
+    }
+    return timelines[path] = timeline;
+  };
+  if (ReplaysCamera(config)) {
+    if (!camera::ValidateCameraConfig(config.camera(), error)) {
+      *error = "camera." + *error;
+      return false;
+    }
+    const camera::ReplayCameraConfig& r = config.camera().replay();
+    replay::ReplayStereoCamera::Options options;
+    options.path = Resolve(r.file(), config_dir);
+    options.timeline = timeline_for("camera.replay.file", options.path, r.rate(), r.loop());
+    if (!options.timeline) return false;
+    options.clock = clock;
+    devices->camera = std::make_unique<replay::ReplayStereoCamera>(options);
+    devices->camera_options = camera::MakePipelineOptions(config.camera());
+    MOSTAR_LOG(INFO) << "camera: replaying " << options.path << " at " << r.rate() << "x"
+                     << (r.loop() ? ", looping" : "");
+  }
+  if (ReplaysLaser(config)) {
+    const laser::LaserReplayConfig& r = config.laser().replay();
+    replay::ReplayLaserScanner::Options options;
+    options.path = Resolve(r.file(), config_dir);
+    options.timeline = timeline_for("laser.replay.file", options.path, r.rate(), r.loop());
+    if (!options.timeline) return false;
+    options.clock = clock;
+    devices->laser = std::make_unique<replay::ReplayLaserScanner>(options);
+    devices->scanner = devices->laser.get();
+    MOSTAR_LOG(INFO) << "laser: replaying " << options.path << " at " << r.rate() << "x"
+                     << (r.loop() ? ", looping" : "");
+  }
+  return true;
 }
 
 // Publishes a recording on DDS as the robot would, until its end (or forever with `loop`) or a
@@ -288,11 +365,18 @@ int Run(int argc, char** argv) {
   double replay_rate = 1.0;
   bool replay_loop = false;
   bool replay_paused = false;
+  std::string replay_sensors;
   app.add_option("--record", record_path, "record everything published (and accepted commands)");
-  app.add_option("--replay", replay_path, "publish this recording instead of live devices")
-      ->check(CLI::ExistingFile);
+  auto* replay_option =
+      app.add_option("--replay", replay_path, "publish this recording instead of live devices")
+          ->check(CLI::ExistingFile);
+  app.add_option("--replay-sensors", replay_sensors,
+                 "camera and laser from this recording (with --replay-rate, --loop), motors "
+                 "and odometry from the source: the live pipeline on recorded data")
+      ->check(CLI::ExistingFile)
+      ->excludes(replay_option);
   app.add_option("--replay-rate", replay_rate, "replay speed factor")->check(CLI::PositiveNumber);
-  app.add_flag("--loop", replay_loop, "replay in a loop");
+  app.add_flag("--loop", replay_loop, "replay (--replay, --replay-sensors) in a loop");
   app.add_flag("--replay-paused", replay_paused,
                "start the replay paused; control it on stdin: p pause/resume, s [N] step, "
                "r RATE, q quit");
@@ -329,6 +413,24 @@ int Run(int argc, char** argv) {
   if (!scene.empty()) {
     config.set_source(ServerConfig::SIM);
     config.set_scene_file(scene);
+  }
+  if (!replay_sensors.empty()) {
+    // Relative to the working directory, like every path on the command line.
+    if (replay_sensors[0] != '/') {
+      char cwd[4096];
+      if (getcwd(cwd, sizeof(cwd)) != nullptr) {
+        replay_sensors = std::string(cwd) + "/" + replay_sensors;
+      }
+    }
+    camera::CameraConfig* camera_config = config.mutable_camera();
+    camera_config->set_backend(camera::CameraConfig::REPLAY);
+    camera_config->mutable_replay()->set_file(replay_sensors);
+    camera_config->mutable_replay()->set_rate(replay_rate);
+    camera_config->mutable_replay()->set_loop(replay_loop);
+    laser::LaserReplayConfig* laser_replay = config.mutable_laser()->mutable_replay();
+    laser_replay->set_file(replay_sensors);
+    laser_replay->set_rate(replay_rate);
+    laser_replay->set_loop(replay_loop);
   }
   const std::string scene_dir = scene.empty() ? config_dir : "";
   drive::DriveSettings settings;
@@ -473,7 +575,7 @@ int Run(int argc, char** argv) {
     trace.Add("scan", scan.stamp, scan.sequence);
   };
   std::thread pattern_scan_thread;
-  if (devices.pattern_robot) {
+  if (devices.pattern_robot && devices.scanner == nullptr) {
     pattern_scan_thread = std::thread([&] {
       uint64_t sequence = 0;
       const Duration period = FromSeconds(1.0 / config.test_pattern().scan_rate_hz());

@@ -136,6 +136,7 @@ void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair
     if (it != in_flight_.end()) {
       shown_pair_ = it->second;
       shown_result_ = result->ok ? result : nullptr;
+      result_sequence_ = result->sequence;
       in_flight_.erase(in_flight_.begin(), std::next(it));
     }
   }
@@ -296,6 +297,42 @@ void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
   }
 }
 
+void OperatorConsole::CapturePair(std::optional<Time> stamp) {
+  Capture capture;
+  capture.stamp = stamp;
+  if (const auto latest = video_->Latest()) capture.after_sequence = latest->sequence;
+  capture_ = capture;
+}
+
+std::optional<Time> OperatorConsole::captured_stamp() const {
+  if (!capture_ || !capture_->pair) return std::nullopt;
+  return capture_->pair->stamp;
+}
+
+std::optional<client::DecodedStereoPair> OperatorConsole::CaptureFilter(
+    const std::optional<client::DecodedStereoPair>& latest) {
+  if (!capture_) return latest;
+  Capture& c = *capture_;
+  if (!c.pair && latest &&
+      (c.stamp ? latest->stamp == *c.stamp : latest->sequence > c.after_sequence)) {
+    c.pair = latest;
+    c.latched_at = clock_->SteadyNow();
+  }
+  if (!c.pair) return std::nullopt;
+  if (!c.ready) {
+    const std::optional<LaserScan> scan = robot_->Snapshot().latest_scan;
+    if (scan && scan->stamp >= c.pair->stamp) {
+      c.ready = true;
+    } else if (clock_->SteadyNow() - c.latched_at > kCaptureScanWait) {
+      c.ready = true;
+      MOSTAR_LOG(WARNING) << "capture: no scan stamped after the pair within "
+                          << ToSeconds(kCaptureScanWait) << " s; rendering with what is here";
+    }
+  }
+  if (!c.ready) return std::nullopt;
+  return c.pair;
+}
+
 bool OperatorConsole::Frame() {
   Window::PollEvents();
   {
@@ -304,10 +341,14 @@ bool OperatorConsole::Frame() {
     ApplyRobotIntrinsics(snapshot);
   }
   HandleInput();
-  UpdateVision(video_->Latest());
+  UpdateVision(CaptureFilter(video_->Latest()));
   const std::optional<client::DecodedStereoPair>& pair = shown_pair_;
   const bool new_pair = pair && pair->sequence != last_pair_;
-  if (options_.headless && !new_pair) return false;
+  // A render of the captured pair with its scans and edge result in.
+  const bool capture_render = capture_ && !capture_->done && capture_->ready && pair &&
+                              pair->sequence == capture_->pair->sequence &&
+                              (!options_.vision_enabled || result_sequence_ == pair->sequence);
+  if (options_.headless && !new_pair && !capture_render) return false;
   const SteadyTime start = clock_->SteadyNow();
 
   const client::RobotSnapshot robot = robot_->Snapshot();
@@ -348,6 +389,10 @@ bool OperatorConsole::Frame() {
     if (robot.clock.known) now = robot.clock.ToResponderTime(now);
     display_age_ms_ = ToSeconds(now - pair->stamp) * 1e3;
     if (display_ages_ms_.size() < 100000) display_ages_ms_.push_back(display_age_ms_);
+  }
+  if (capture_render && ++capture_->renders >= kCaptureRenders) {
+    last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
+    capture_->done = true;
   }
   window_->SwapBuffers();
   frame_time_ms_ = ToSeconds(clock_->SteadyNow() - start) * 1e3;

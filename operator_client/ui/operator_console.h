@@ -73,6 +73,21 @@ class OperatorConsole {
   // The console first waits to hold the lease, then arms (deadman up for 0.5 s), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
 
+  // Deterministic screenshot of one pair (--capture-stamp, --capture-after). From this call on
+  // only one pair is shown: the pair stamped `stamp`, or with nullopt the next new pair decoded
+  // after the call. It is shown once a scan stamped at or after it has arrived (so its nearest
+  // scan is settled; at most kCaptureScanWait later) and, with edge processing, once its edge
+  // result is in; after kCaptureRenders renders of it (ImGui windows settle) captured() is true
+  // and last_frame() holds it. What arrives when no longer matters, so a replay of the session
+  // renders the same picture as the live session did.
+  static constexpr int kCaptureRenders = 3;
+  static constexpr Duration kCaptureScanWait = std::chrono::seconds(2);
+  void CapturePair(std::optional<Time> stamp);
+  bool capturing() const { return capture_.has_value(); }
+  bool captured() const { return capture_ && capture_->done; }
+  // Capture stamp of the captured (or latched) pair.
+  std::optional<Time> captured_stamp() const;
+
  private:
   void HandleInput();
   void BuildOverlay(const std::optional<LaserScan>& scan, render::OverlayGeometry* overlay,
@@ -88,6 +103,9 @@ class OperatorConsole {
   void DrawHelp();
   // Hands the new pair to the edge worker; returns the pair (and its result) to display now.
   void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
+  // While capturing: the captured pair once it may be shown, else nothing.
+  std::optional<client::DecodedStereoPair> CaptureFilter(
+      const std::optional<client::DecodedStereoPair>& latest);
   unsigned UploadTexture(const cv::Mat& image, unsigned texture);
 
   ConsoleOptions options_;
@@ -115,6 +133,7 @@ class OperatorConsole {
   std::map<uint64_t, client::DecodedStereoPair> in_flight_;   // submitted, awaiting a result
   std::optional<client::DecodedStereoPair> shown_pair_;       // what is displayed
   std::shared_ptr<const vision::VisionResult> shown_result_;  // its edge result, if any
+  uint64_t result_sequence_ = 0;  // pair of the last edge result (ok or not)
   bool show_edge_view_ = false;
   unsigned edge_textures_[2] = {0, 0};
 
@@ -133,6 +152,17 @@ class OperatorConsole {
   std::vector<double> frame_times_ms_;   // per frame that showed a new pair
   double display_age_ms_ = 0;
   SteadyTime last_frame_start_;
+
+  struct Capture {
+    std::optional<Time> stamp;    // the pair to capture; nullopt: the next new one
+    uint64_t after_sequence = 0;  // with nullopt: decoded pairs up to this one are not it
+    std::optional<client::DecodedStereoPair> pair;  // latched
+    SteadyTime latched_at;
+    bool ready = false;  // its scans have arrived: it may be shown
+    int renders = 0;     // renders of it with everything in
+    bool done = false;
+  };
+  std::optional<Capture> capture_;
 };
 
 }  // namespace mostar::ui

@@ -67,6 +67,10 @@ bool ValidateCameraConfig(const CameraConfig& config, std::string* error) {
     *error = "file.right: required unless file.source is SIDE_BY_SIDE_VIDEO";
     return false;
   }
+  if (config.backend() == CameraConfig::REPLAY && config.replay().file().empty()) {
+    *error = "replay.file: required for the REPLAY backend";
+    return false;
+  }
   return true;
 }
 
@@ -142,6 +146,11 @@ std::unique_ptr<StereoCamera> MakeStereoCamera(const CameraConfig& config, const
     }
     case CameraConfig::SIM:
       *error = "backend: SIM cameras are created by the simulator wiring, not by this factory";
+      return nullptr;
+    case CameraConfig::REPLAY:
+      *error =
+          "backend: REPLAY cameras are created by the server wiring (robot_server/replay), "
+          "not by this factory";
       return nullptr;
   }
   *error = "backend: unknown value";
