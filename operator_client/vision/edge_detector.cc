@@ -1,5 +1,6 @@
 #include "operator_client/vision/edge_detector.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -46,7 +47,8 @@ EdgeDetector::EdgeDetector(const EdgeDetectorOptions& options) : options_(option
   }
 }
 
-bool EdgeDetector::Detect(const cv::Mat& image, EdgeImages* out, std::string* error) const {
+bool EdgeDetector::Detect(const cv::Mat& image, EdgeImages* out, std::string* error,
+                          int first_row) const {
   assert(out != nullptr);
   if (image.empty() || image.depth() != CV_8U ||
       (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)) {
@@ -61,15 +63,27 @@ bool EdgeDetector::Detect(const cv::Mat& image, EdgeImages* out, std::string* er
     out->edges.release();
     return false;
   }
-  // Grey conversion straight into the output buffer, then the stretch in place.
-  if (image.channels() == 1) {
-    cv::LUT(image, stretch_table_, out->stretched_grey);
-  } else {
-    cv::cvtColor(image, out->stretched_grey,
-                 image.channels() == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
-    cv::LUT(out->stretched_grey, stretch_table_, out->stretched_grey);
+  const int rows = image.rows;
+  const int top = std::clamp(first_row, 0, rows);
+  out->stretched_grey.create(image.size(), CV_8UC1);
+  out->edges.create(image.size(), CV_8UC1);
+  if (top > 0) {
+    out->stretched_grey.rowRange(0, top).setTo(0);
+    out->edges.rowRange(0, top).setTo(0);
   }
-  cv::Canny(out->stretched_grey, out->edges, options_.canny_threshold1, options_.canny_threshold2,
+  if (top == rows) return true;
+  const cv::Range band(top, rows);
+  cv::Mat grey = out->stretched_grey.rowRange(band);
+  if (image.channels() == 1) {
+    cv::LUT(image.rowRange(band), stretch_table_, grey);
+  } else {
+    // Grey conversion into the output buffer (SIMD), then the stretch table in place.
+    cv::cvtColor(image.rowRange(band), grey,
+                 image.channels() == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+    cv::LUT(grey, stretch_table_, grey);
+  }
+  cv::Mat edges = out->edges.rowRange(band);
+  cv::Canny(grey, edges, options_.canny_threshold1, options_.canny_threshold2,
             options_.canny_aperture_px, options_.l2_gradient);
   return true;
 }

@@ -44,7 +44,12 @@ class EdgeDetector {
   // Accepts CV_8UC1 (grey), CV_8UC3 (BGR) or CV_8UC4 (BGRA) images of any non-empty size. On
   // other input returns false with `error` set and leaves `out` empty. `out`'s buffers are
   // reused when their size matches (no allocation in steady state).
-  bool Detect(const cv::Mat& image, EdgeImages* out, std::string* error) const;
+  //
+  // `first_row`: only rows >= first_row are processed (clamped to [0, rows]); the rows above
+  // are 0 in both outputs. NED passes the highest row its virtual rays reach (minus a margin):
+  // above the horizon there is no floor to search. Canny then treats first_row as the image's
+  // top border.
+  bool Detect(const cv::Mat& image, EdgeImages* out, std::string* error, int first_row = 0) const;
 
   // The contrast-stretching lookup table, 256 entries of CV_8U (for the calibration view's
   // plot of fig. 28).

@@ -88,5 +88,25 @@ TEST(EdgeDetectorTest, StretchingSuppressesAFaintPatternAboveHighThreshold) {
   EXPECT_GT(cv::countNonZero(out.edges), 0);
 }
 
+TEST(EdgeDetectorTest, ProcessesOnlyTheRowsFromFirstRow) {
+  cv::Mat image(120, 160, CV_8UC3, cv::Scalar(40, 40, 40));
+  image.colRange(80, 160).setTo(cv::Scalar(220, 220, 220));  // a vertical step, all rows
+  const EdgeDetector detector{EdgeDetectorOptions{}};
+  EdgeImages full, band;
+  std::string error;
+  ASSERT_TRUE(detector.Detect(image, &full, &error)) << error;
+  ASSERT_TRUE(detector.Detect(image, &band, &error, 50)) << error;
+  ASSERT_EQ(band.edges.size(), image.size());
+  EXPECT_EQ(cv::countNonZero(band.edges.rowRange(0, 50)), 0);
+  EXPECT_EQ(cv::countNonZero(band.stretched_grey.rowRange(0, 50)), 0);
+  EXPECT_EQ(cv::countNonZero(band.edges.rowRange(52, 118) != full.edges.rowRange(52, 118)), 0);
+  EXPECT_EQ(cv::countNonZero(band.stretched_grey.rowRange(50, 120) !=
+                             full.stretched_grey.rowRange(50, 120)),
+            0);
+  // Beyond the image: nothing processed, no failure.
+  ASSERT_TRUE(detector.Detect(image, &band, &error, 500)) << error;
+  EXPECT_EQ(cv::countNonZero(band.edges), 0);
+}
+
 }  // namespace
 }  // namespace mostar::vision

@@ -59,6 +59,12 @@ bool NearestEdgeOptions::IsValid(std::string* error) const {
     why << "step_px must be in (0, 1] (got " << step_px << ")";
   } else if (lateral_tolerance_px < 0 || lateral_tolerance_px > 10) {
     why << "lateral_tolerance_px must be in [0, 10] (got " << lateral_tolerance_px << ")";
+  } else if (!(base_search_m >= 0.0 && base_search_m <= 1.0)) {
+    why << "base_search_m must be in [0, 1] (got " << base_search_m << ")";
+  } else if (!(min_step_grey >= 0 && min_step_grey <= 255) || step_offset_px < 1 ||
+             step_offset_px > 20) {
+    why << "min_step_grey must be in [0, 255] and step_offset_px in [1, 20] (got " << min_step_grey
+        << ", " << step_offset_px << ")";
   } else if (bottom_margin_px < 0) {
     why << "bottom_margin_px must be >= 0 (got " << bottom_margin_px << ")";
   } else {
@@ -134,53 +140,126 @@ RayPixels TraceRayPixels(const math::CameraModel& camera, double azimuth_rad,
   return ray;
 }
 
+namespace {
+
+// L1 Sobel gradient magnitude of `grey` (CV_8UC1) at (col, row), borders replicated: the same
+// measure Canny thresholds (without its aperture options).
+int SobelL1(const cv::Mat& grey, int col, int row) {
+  const int c0 = std::max(col - 1, 0), c2 = std::min(col + 1, grey.cols - 1);
+  const uint8_t* up = grey.ptr<uint8_t>(std::max(row - 1, 0));
+  const uint8_t* mid = grey.ptr<uint8_t>(row);
+  const uint8_t* down = grey.ptr<uint8_t>(std::min(row + 1, grey.rows - 1));
+  const int gx = (up[c2] + 2 * mid[c2] + down[c2]) - (up[c0] + 2 * mid[c0] + down[c0]);
+  const int gy = (down[c0] + 2 * down[col] + down[c2]) - (up[c0] + 2 * up[col] + up[c2]);
+  return std::abs(gx) + std::abs(gy);
+}
+
+}  // namespace
+
 Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
-                            const NearestEdgeOptions& options, double laser_height_m) {
+                            const NearestEdgeOptions& options, double laser_height_m,
+                            const cv::Mat& grey) {
   assert(edges.type() == CV_8UC1);
-  Nep nep;
+  assert(grey.empty() || (grey.type() == CV_8UC1 && grey.size() == edges.size()));
   const int width = edges.cols;
   const int max_row = edges.rows - 1 - options.bottom_margin_px;
   const auto is_edge = [&](int col, int row) {
     return col >= 0 && col < width && row >= 0 && row <= max_row &&
            edges.ptr<uint8_t>(row)[col] != 0;
   };
-  for (const RayPixels::Pixel& p : ray.pixels) {
-    double hit_t = -1.0;
-    int hit_col = p.col;
-    int hit_row = p.row;
+  struct Hit {
+    double t = -1.0;
+    int col = 0;
+    int row = 0;
+  };
+  // The edge pixel the walk meets at ray pixel `p`, if any.
+  const auto hit_at = [&](const RayPixels::Pixel& p, Hit* hit) {
+    hit->col = p.col;
+    hit->row = p.row;
     if (is_edge(p.col, p.row)) {
-      hit_t = p.centre_t_m;
-    } else if (p.previous_col >= 0 && p.col != p.previous_col && p.row != p.previous_row &&
-               (is_edge(p.col, p.previous_row) || is_edge(p.previous_col, p.row))) {
+      hit->t = p.centre_t_m;
+      return true;
+    }
+    if (p.previous_col >= 0 && p.col != p.previous_col && p.row != p.previous_row &&
+        (is_edge(p.col, p.previous_row) || is_edge(p.previous_col, p.row))) {
       // A diagonal step: an 8-connected edge may pass between the two pixels.
-      hit_t = p.enter_t_m;
+      hit->t = p.enter_t_m;
       if (is_edge(p.col, p.previous_row)) {
-        hit_row = p.previous_row;
+        hit->row = p.previous_row;
       } else {
-        hit_col = p.previous_col;
+        hit->col = p.previous_col;
       }
-    } else if (options.lateral_tolerance_px > 0) {
-      for (int k = 1; k <= options.lateral_tolerance_px && hit_t < 0.0; ++k) {
-        for (const int sign : {-1, 1}) {
-          const int c = p.walking_vertically ? p.col + sign * k : p.col;
-          const int r = p.walking_vertically ? p.row : p.row + sign * k;
-          if (is_edge(c, r)) {
-            hit_t = p.centre_t_m;
-            hit_col = c;
-            hit_row = r;
-            break;
-          }
+      return true;
+    }
+    for (int k = 1; k <= options.lateral_tolerance_px; ++k) {
+      for (const int sign : {-1, 1}) {
+        const int c = p.walking_vertically ? p.col + sign * k : p.col;
+        const int r = p.walking_vertically ? p.row : p.row + sign * k;
+        if (is_edge(c, r)) {
+          hit->t = p.centre_t_m;
+          hit->col = c;
+          hit->row = r;
+          return true;
         }
       }
     }
-    if (hit_t >= 0.0) {
-      nep.found = true;
-      nep.distance_m = hit_t;
-      nep.floor_point_laser = FloorPointLaser(ray.azimuth_rad, hit_t, laser_height_m);
-      nep.pixel = Eigen::Vector2d(hit_col, hit_row);
-      nep.metres_per_px = p.metres_per_px;
-      return nep;
+    return false;
+  };
+
+  Nep nep;
+  const std::vector<RayPixels::Pixel>& pixels = ray.pixels;
+  // Mean grey of the ray pixels [first, last] (clipped); false when none.
+  const auto mean_grey = [&](ptrdiff_t first, ptrdiff_t last, double* mean) {
+    first = std::max<ptrdiff_t>(first, 0);
+    last = std::min<ptrdiff_t>(last, static_cast<ptrdiff_t>(pixels.size()) - 1);
+    if (first > last) return false;
+    int sum = 0;
+    for (ptrdiff_t k = first; k <= last; ++k) {
+      sum +=
+          grey.ptr<uint8_t>(pixels[static_cast<size_t>(k)].row)[pixels[static_cast<size_t>(k)].col];
     }
+    *mean = static_cast<double>(sum) / static_cast<double>(last - first + 1);
+    return true;
+  };
+  // A thin line on the floor (tile joint, drawing) has floor on both sides; an obstacle base
+  // separates the floor from something else.
+  const auto is_step = [&](size_t i) {
+    if (options.min_step_grey <= 0 || grey.empty()) return true;
+    const auto centre = static_cast<ptrdiff_t>(i);
+    const ptrdiff_t near = options.step_offset_px, far = 2 * options.step_offset_px;
+    double before = 0.0, after = 0.0;
+    if (!mean_grey(centre - far, centre - near, &before) ||
+        !mean_grey(centre + near, centre + far, &after)) {
+      return true;
+    }
+    return std::abs(after - before) >= options.min_step_grey;
+  };
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    Hit hit;
+    if (!hit_at(pixels[i], &hit) || !is_step(i)) continue;
+    size_t best_index = i;
+    if (options.base_search_m > 0.0 && !grey.empty()) {
+      // Base refinement: the first edge is often the outer rim of the obstacle's contact shadow
+      // or of the optics' blur; the base is the strongest edge just beyond it.
+      int best_gradient = SobelL1(grey, hit.col, hit.row);
+      const double limit_t = hit.t + options.base_search_m;
+      for (size_t j = i + 1; j < pixels.size() && pixels[j].enter_t_m <= limit_t; ++j) {
+        Hit next;
+        if (!hit_at(pixels[j], &next)) continue;
+        const int gradient = SobelL1(grey, next.col, next.row);
+        if (gradient > best_gradient) {
+          best_gradient = gradient;
+          best_index = j;
+          hit = next;
+        }
+      }
+    }
+    nep.found = true;
+    nep.distance_m = hit.t;
+    nep.floor_point_laser = FloorPointLaser(ray.azimuth_rad, hit.t, laser_height_m);
+    nep.pixel = Eigen::Vector2d(hit.col, hit.row);
+    nep.metres_per_px = pixels[best_index].metres_per_px;
+    return nep;
   }
   return nep;
 }
@@ -197,8 +276,8 @@ Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera, 
 namespace {
 
 // Checks what FindNearestEdges and NearestEdgeFinder::Find need; sets `why` when not met.
-bool CheckNedInput(const cv::Mat& edges, const math::CameraModel& camera, const LaserScan& scan,
-                   const NearestEdgeOptions& options, std::string* error) {
+bool CheckNedInput(const cv::Mat& edges, const cv::Mat& grey, const math::CameraModel& camera,
+                   const LaserScan& scan, const NearestEdgeOptions& options, std::string* error) {
   if (!options.IsValid(error)) return false;
   std::ostringstream why;
   if (edges.type() != CV_8UC1 || edges.cols != camera.width_px() ||
@@ -206,6 +285,9 @@ bool CheckNedInput(const cv::Mat& edges, const math::CameraModel& camera, const 
     why << "edge image must be CV_8UC1 of the camera's size " << camera.width_px() << "x"
         << camera.height_px() << " (got " << edges.cols << "x" << edges.rows << ", type "
         << edges.type() << ")";
+  } else if (!grey.empty() && (grey.type() != CV_8UC1 || grey.size() != edges.size())) {
+    why << "grey image must be empty or CV_8UC1 of the edge image's size (got " << grey.cols << "x"
+        << grey.rows << ", type " << grey.type() << ")";
   } else if (options.bottom_margin_px >= edges.rows) {
     why << "bottom_margin_px (" << options.bottom_margin_px << ") must be < the image height ("
         << edges.rows << ")";
@@ -220,9 +302,42 @@ bool CheckNedInput(const cv::Mat& edges, const math::CameraModel& camera, const 
 
 }  // namespace
 
+bool NearestEdgeFinder::Prepare(const std::shared_ptr<const math::CameraModel>& camera,
+                                const LaserScan& scan, std::string* error) {
+  if (camera == nullptr) {
+    if (error != nullptr) *error = "missing camera model";
+    return false;
+  }
+  if (!options_.IsValid(error)) return false;
+  if (!std::isfinite(scan.angle_min_rad) || !std::isfinite(scan.angle_increment_rad)) {
+    if (error != nullptr) *error = "scan angles must be finite";
+    return false;
+  }
+  if (camera != camera_ || scan.angle_min_rad != angle_min_rad_ ||
+      scan.angle_increment_rad != angle_increment_rad_ || rays_.size() != scan.ranges_m.size()) {
+    camera_ = camera;
+    angle_min_rad_ = scan.angle_min_rad;
+    angle_increment_rad_ = scan.angle_increment_rad;
+    rays_.clear();
+    rays_.reserve(scan.ranges_m.size());
+    top_row_ = camera->height_px();
+    for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+      rays_.push_back(TraceRayPixels(*camera, scan.AngleOf(i), options_));
+      for (const RayPixels::Pixel& p : rays_.back().pixels) {
+        top_row_ = std::min(top_row_, static_cast<int>(p.row));
+      }
+    }
+    // Lateral tolerance (walking horizontally), diagonal checks, the step test and the 3x3
+    // Sobel of the base refinement read a few rows above.
+    top_row_ = std::max(0, top_row_ - options_.lateral_tolerance_px - 2);
+  }
+  return true;
+}
+
 bool NearestEdgeFinder::Find(const cv::Mat& edges,
                              const std::shared_ptr<const math::CameraModel>& camera,
-                             const LaserScan& scan, NedResult* out, std::string* error) {
+                             const LaserScan& scan, NedResult* out, std::string* error,
+                             const cv::Mat& grey) {
   assert(out != nullptr);
   out->neps.assign(scan.ranges_m.size(), Nep{});
   out->visible_rays = 0;
@@ -231,21 +346,11 @@ bool NearestEdgeFinder::Find(const cv::Mat& edges,
     if (error != nullptr) *error = "missing camera model";
     return false;
   }
-  if (!CheckNedInput(edges, *camera, scan, options_, error)) return false;
-  if (camera != camera_ || scan.angle_min_rad != angle_min_rad_ ||
-      scan.angle_increment_rad != angle_increment_rad_ || rays_.size() != scan.ranges_m.size()) {
-    camera_ = camera;
-    angle_min_rad_ = scan.angle_min_rad;
-    angle_increment_rad_ = scan.angle_increment_rad;
-    rays_.clear();
-    rays_.reserve(scan.ranges_m.size());
-    for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
-      rays_.push_back(TraceRayPixels(*camera, scan.AngleOf(i), options_));
-    }
-  }
+  if (!CheckNedInput(edges, grey, *camera, scan, options_, error)) return false;
+  if (!Prepare(camera, scan, error)) return false;
   const double laser_height_m = camera->calibration().laser_height_m;
   for (size_t i = 0; i < rays_.size(); ++i) {
-    out->neps[i] = FindNearestEdgeOnPixels(edges, rays_[i], options_, laser_height_m);
+    out->neps[i] = FindNearestEdgeOnPixels(edges, rays_[i], options_, laser_height_m, grey);
     out->visible_rays += rays_[i].visible ? 1 : 0;
     out->found += out->neps[i].found ? 1 : 0;
   }
@@ -253,15 +358,18 @@ bool NearestEdgeFinder::Find(const cv::Mat& edges,
 }
 
 bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, const LaserScan& scan,
-                      const NearestEdgeOptions& options, NedResult* out, std::string* error) {
+                      const NearestEdgeOptions& options, NedResult* out, std::string* error,
+                      const cv::Mat& grey) {
   assert(out != nullptr);
   out->neps.assign(scan.ranges_m.size(), Nep{});
   out->visible_rays = 0;
   out->found = 0;
-  if (!CheckNedInput(edges, camera, scan, options, error)) return false;
+  if (!CheckNedInput(edges, grey, camera, scan, options, error)) return false;
+  const double laser_height_m = camera.calibration().laser_height_m;
   for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
-    bool visible = false;
-    out->neps[i] = FindNearestEdgeOnRay(edges, camera, scan.AngleOf(i), options, &visible);
+    const RayPixels ray = TraceRayPixels(camera, scan.AngleOf(i), options);
+    out->neps[i] = FindNearestEdgeOnPixels(edges, ray, options, laser_height_m, grey);
+    const bool visible = ray.visible;
     out->visible_rays += visible ? 1 : 0;
     out->found += out->neps[i].found ? 1 : 0;
   }

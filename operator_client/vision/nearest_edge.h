@@ -41,6 +41,17 @@ struct NearestEdgeOptions {
   // Rows at the bottom of the image that show the robot itself and are never searched; in
   // [0, image height).
   int bottom_margin_px = 0;
+  // Base refinement, metres of floor distance beyond the first edge pixel; in [0, 1]. The first
+  // edge along a ray is often the outer rim of an obstacle's contact shadow a few centimetres in
+  // front of its base. Within this distance the NEP moves to the edge pixel with the strongest
+  // gradient (Sobel, L1, on the stretched grey image). 0 = the thesis' first edge pixel alone.
+  double base_search_m = 0.06;
+  // Step test: an edge pixel counts only when the mean stretched grey of the ray pixels
+  // [step_offset_px, 2 step_offset_px] beyond it differs from that of the same span before it
+  // by at least min_step_grey levels. Thin lines on the floor (tile joints, drawings) have floor
+  // on both sides and fail it; obstacle bases pass. Needs the grey image. 0 = off (the thesis).
+  int min_step_grey = 0;
+  int step_offset_px = 3;  // in [1, 20]
 
   bool IsValid(std::string* error) const;
 };
@@ -74,8 +85,10 @@ struct NedResult {
 // needs the beam's azimuth). `edges` is the CV_8UC1 edge image of the camera `camera` describes
 // (non-zero = edge); its size must match the camera's. On a size/type mismatch or invalid
 // options, returns false with `error` set and `out` holds one not-found NEP per beam.
+// `grey`: as in FindNearestEdgeOnPixels (empty = no base refinement).
 bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, const LaserScan& scan,
-                      const NearestEdgeOptions& options, NedResult* out, std::string* error);
+                      const NearestEdgeOptions& options, NedResult* out, std::string* error,
+                      const cv::Mat& grey = cv::Mat());
 
 // The NEP along one virtual ray: the floor half-line from the robot base with azimuth
 // `azimuth_rad` (laser frame, counter-clockwise, 0 = ahead). Preconditions as above (checked by
@@ -105,9 +118,11 @@ struct RayPixels {
 RayPixels TraceRayPixels(const math::CameraModel& camera, double azimuth_rad,
                          const NearestEdgeOptions& options);
 
-// The NEP along precomputed ray pixels; `edges` as in FindNearestEdges.
+// The NEP along precomputed ray pixels; `edges` as in FindNearestEdges. `grey` is the stretched
+// grey image the edges came from (CV_8UC1, same size), for the base refinement; empty = none.
 Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
-                            const NearestEdgeOptions& options, double laser_height_m);
+                            const NearestEdgeOptions& options, double laser_height_m,
+                            const cv::Mat& grey = cv::Mat());
 
 // NED with the ray pixels of every beam cached: they are rebuilt only when the camera model
 // (compared by pointer: hand over the same shared_ptr while the calibration is unchanged), the
@@ -118,7 +133,16 @@ class NearestEdgeFinder {
 
   // As FindNearestEdges.
   bool Find(const cv::Mat& edges, const std::shared_ptr<const math::CameraModel>& camera,
-            const LaserScan& scan, NedResult* out, std::string* error);
+            const LaserScan& scan, NedResult* out, std::string* error,
+            const cv::Mat& grey = cv::Mat());
+
+  // Builds (or keeps) the ray pixel cache for this camera and scan geometry; false with `error`
+  // on invalid options or scan angles, or a missing camera.
+  bool Prepare(const std::shared_ptr<const math::CameraModel>& camera, const LaserScan& scan,
+               std::string* error);
+  // After Prepare: the highest image row any cached ray pixel (or its lateral and diagonal
+  // neighbours) touches; the image height when no ray is visible. Rows above it are never read.
+  int top_row() const { return top_row_; }
 
  private:
   NearestEdgeOptions options_;
@@ -126,6 +150,7 @@ class NearestEdgeFinder {
   float angle_min_rad_ = 0.f;
   float angle_increment_rad_ = 0.f;
   std::vector<RayPixels> rays_;
+  int top_row_ = 0;
 };
 
 // Floor point (laser frame) at `distance_m` from the robot base along `azimuth_rad`.

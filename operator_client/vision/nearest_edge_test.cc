@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <opencv2/imgproc.hpp>
 
 namespace mostar::vision {
@@ -198,6 +199,95 @@ TEST(NearestEdgeTest, AnEmptyEdgeImageGivesNoNeps) {
                                ScanWithBeams(181, 3.0f), NearestEdgeOptions{}, &result, &error));
   EXPECT_EQ(result.found, 0);
   EXPECT_GT(result.visible_rays, 0);
+}
+
+TEST(NearestEdgeTest, BaseRefinementMovesFromAShadowRimToTheStrongerBaseEdge) {
+  // Straight ahead: a faint rim (floor 150 -> shadow 120) two rows nearer than the base
+  // (shadow 120 -> dark obstacle 20), both marked as edges.
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const int base_row =
+      static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 2.0, 0.40))->y()));
+  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(150));
+  grey.rowRange(base_row - 1, base_row + 3).setTo(120);  // the shadow band below the base
+  grey.rowRange(0, base_row - 1).setTo(20);              // the obstacle
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(base_row + 2).setTo(255);  // rim
+  edges.row(base_row - 1).setTo(255);  // base
+  NearestEdgeOptions options;
+  options.base_search_m = 0.0;  // the thesis' first edge
+  const Nep first =
+      FindNearestEdgeOnPixels(edges, TraceRayPixels(camera, 0.0, options), options, 0.40, grey);
+  ASSERT_TRUE(first.found);
+  EXPECT_EQ(first.pixel.y(), base_row + 2);
+  options.base_search_m = 0.10;
+  const Nep refined =
+      FindNearestEdgeOnPixels(edges, TraceRayPixels(camera, 0.0, options), options, 0.40, grey);
+  ASSERT_TRUE(refined.found);
+  EXPECT_EQ(refined.pixel.y(), base_row - 1);
+  EXPECT_GT(refined.distance_m, first.distance_m);
+  // Without the grey image there is nothing to compare: the first edge stays.
+  EXPECT_EQ(
+      FindNearestEdgeOnPixels(edges, TraceRayPixels(camera, 0.0, options), options, 0.40).pixel.y(),
+      base_row + 2);
+  // An edge farther than base_search_m beyond the first one is another object.
+  options.base_search_m = 0.01;
+  EXPECT_EQ(
+      FindNearestEdgeOnPixels(edges, TraceRayPixels(camera, 0.0, options), options, 0.40, grey)
+          .pixel.y(),
+      base_row + 2);
+}
+
+TEST(NearestEdgeTest, StepTestSkipsThinFloorLinesButNotObstacleBases) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const int joint_row =
+      static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 1.5, 0.40))->y()));
+  const int base_row =
+      static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 3.0, 0.40))->y()));
+  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(200));
+  grey.row(joint_row).setTo(120);            // a tile joint: floor on both sides
+  grey.rowRange(0, base_row + 1).setTo(60);  // an obstacle standing at 3 m
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(joint_row).setTo(255);
+  edges.row(base_row).setTo(255);
+  NearestEdgeOptions options;
+  options.base_search_m = 0.0;
+  const RayPixels ray = TraceRayPixels(camera, 0.0, options);
+  EXPECT_EQ(FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey).pixel.y(), joint_row);
+  options.min_step_grey = 45;
+  const Nep nep = FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey);
+  ASSERT_TRUE(nep.found);
+  EXPECT_EQ(nep.pixel.y(), base_row);
+  EXPECT_NEAR(nep.distance_m, 3.0, 0.1);
+}
+
+TEST(NearestEdgeTest, FinderReportsTheHighestRowItsRaysRead) {
+  const auto camera = std::make_shared<const math::CameraModel>(Calibration(), math::Eye::kMono);
+  const LaserScan scan = ScanWithBeams(181, 3.0f);
+  NearestEdgeOptions options;
+  NearestEdgeFinder finder(options);
+  std::string error;
+  ASSERT_TRUE(finder.Prepare(camera, scan, &error)) << error;
+  // The floor at max_range_m straight ahead is above every other ray pixel.
+  const int far_row = static_cast<int>(
+      std::floor(camera->Project(FloorPointLaser(0.0, options.max_range_m, 0.40))->y()));
+  EXPECT_LE(finder.top_row(), far_row);
+  EXPECT_GE(finder.top_row(), far_row - 6);
+  // Edges above top_row() change nothing.
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(400).setTo(255);
+  NedResult with_top, without_top;
+  ASSERT_TRUE(finder.Find(edges, camera, scan, &without_top, &error)) << error;
+  edges.rowRange(0, finder.top_row()).setTo(255);
+  ASSERT_TRUE(finder.Find(edges, camera, scan, &with_top, &error)) << error;
+  ASSERT_EQ(with_top.found, without_top.found);
+  for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    ASSERT_EQ(with_top.neps[i].found, without_top.neps[i].found) << i;
+    if (with_top.neps[i].found) {
+      EXPECT_EQ(with_top.neps[i].distance_m, without_top.neps[i].distance_m) << i;
+    }
+  }
+  EXPECT_FALSE(finder.Find(edges, camera, scan, &with_top, &error, cv::Mat(10, 10, CV_8UC1)));
+  EXPECT_NE(error.find("grey image"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -23,6 +23,17 @@ struct NepClassifierOptions {
   // cameras), so a NEP is also taken to agree when within this many pixels of its laser point
   // (its Nep::metres_per_px). 0 = the thesis' rule alone; in [0, 20].
   double min_threshold_px = 2.0;
+  // A NEP much nearer than its own laser point but within edgeTh (and min_threshold_px) of the
+  // laser point of a beam up to this many beams away is the same object as that point: the laser
+  // sees it, the ray only passes beside it (thin legs, corners, their contact shadows). It is
+  // not a possible obstacle. 0 = the thesis' rule (own beam only); in [0, 10].
+  int neighbour_beams = 2;
+  // Possible obstacles are shown only in groups of at least this many beams: nearer NEPs of
+  // beams at most two apart whose floor points lie within max(2 edgeTh, 2 d dtheta gap) of
+  // each other (d: floor distance, dtheta: beam increment, gap: beams apart). Thesis 8.5:
+  // obstacles the laser misses give lines of dots, false edges isolated ones. 1 = every dot
+  // (the thesis); in [1, 20].
+  int min_obstacle_beams = 2;
 
   bool IsValid(std::string* error) const;
 };
@@ -33,6 +44,12 @@ enum class NepRelation : uint8_t {
   kAgrees,   // |d_nep - d_laser| <= edgeTh: the overlay is moved onto the NEP
   kNearer,   // d_nep < d_laser - edgeTh (or the beam has no valid range): possible obstacle
   kFurther,  // d_nep > d_laser + edgeTh: the laser is trusted, the NEP ignored
+  // Nearer than its own laser point but within edgeTh of a neighbouring beam's laser point
+  // (NepClassifierOptions::neighbour_beams): the laser sees that object; no dot, no correction.
+  kNeighbour,
+  // Nearer, but fewer than NepClassifierOptions::min_obstacle_beams beams see the same edge:
+  // taken for a false edge; no dot, and it confirms no outlier.
+  kIsolated,
 };
 
 const char* NepRelationName(NepRelation relation);
@@ -61,6 +78,8 @@ struct NepClassification {
   int corrected = 0;           // beams with NepRelation::kAgrees
   int nearer = 0;              // == possible_obstacles.size()
   int further = 0;             // ignored NEPs
+  int neighbour = 0;           // NepRelation::kNeighbour
+  int isolated = 0;            // NepRelation::kIsolated
   int unreliable_ignored = 0;  // unreliable NEPs that did not agree with the laser
   int confirmed_outliers = 0;
   int potential_outliers_kept = 0;  // potential outliers whose NEP agreed or that had none

@@ -27,13 +27,20 @@ Nep NepAt(const LaserScan& scan, size_t beam, double distance_m, bool reliable =
   return nep;
 }
 
+// The thesis' rules alone: every nearer NEP is a dot, only its own laser point counts.
+NepClassifierOptions ThesisRules() {
+  NepClassifierOptions options;
+  options.neighbour_beams = 0;
+  options.min_obstacle_beams = 1;
+  return options;
+}
+
 NepClassification Classify(const LaserScan& scan, const std::vector<Nep>& neps,
-                           const std::vector<bool>& outliers = {}) {
+                           const std::vector<bool>& outliers = {},
+                           const NepClassifierOptions& options = ThesisRules()) {
   NepClassification out;
   std::string error;
-  EXPECT_TRUE(
-      ClassifyNeps(scan, neps, outliers, NepClassifierOptions{}, kLaserHeightM, &out, &error))
-      << error;
+  EXPECT_TRUE(ClassifyNeps(scan, neps, outliers, options, kLaserHeightM, &out, &error)) << error;
   return out;
 }
 
@@ -116,6 +123,74 @@ TEST(NepClassifierTest, UnreliableNepCountsOnlyWhenItAgrees) {
   EXPECT_EQ(out.unreliable_ignored, 2);
 }
 
+LaserScan FineScan(std::vector<float> ranges_m) {
+  LaserScan scan = ScanOf(std::move(ranges_m));
+  scan.angle_min_rad = -0.05f;
+  scan.angle_increment_rad = 0.01f;  // about half a degree, as the LMS200
+  return scan;
+}
+
+TEST(NepClassifierTest, NepNextToALaserPointOfANeighbouringBeamIsNoDot) {
+  // A thin leg at 3 m seen by the laser on beam 2 only; beams 1 and 3 pass beside it and their
+  // rays cross the leg's image (or its contact shadow) near 3 m.
+  const LaserScan scan = FineScan({6.0f, 6.0f, 3.0f, 6.0f, 6.0f});
+  const std::vector<Nep> neps = {Nep{}, NepAt(scan, 1, 2.97), NepAt(scan, 2, 3.0),
+                                 NepAt(scan, 3, 3.02), Nep{}};
+  const NepClassification thesis = Classify(scan, neps);
+  EXPECT_EQ(thesis.possible_obstacles.size(), 2u);
+  NepClassifierOptions options = ThesisRules();
+  options.neighbour_beams = 2;
+  const NepClassification out = Classify(scan, neps, {}, options);
+  EXPECT_TRUE(out.possible_obstacles.empty());
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kNeighbour);
+  EXPECT_EQ(out.beams[3].relation, NepRelation::kNeighbour);
+  EXPECT_EQ(out.beams[2].relation, NepRelation::kAgrees);
+  EXPECT_EQ(out.neighbour, 2);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 6.0f);  // not moved
+  // Three beams away is not a neighbour with neighbour_beams = 2 (though 9 cm away).
+  const LaserScan far_scan = FineScan({6.0f, 6.0f, 6.0f, 6.0f, 3.0f});
+  const NepClassification far_out =
+      Classify(far_scan, {Nep{}, NepAt(far_scan, 1, 3.0), Nep{}, Nep{}, Nep{}}, {}, options);
+  EXPECT_EQ(far_out.beams[1].relation, NepRelation::kNearer);
+}
+
+TEST(NepClassifierTest, IsolatedDotsAreDroppedAndLinesOfDotsKept) {
+  // Beams 0-3: the base of a low box at 1.5 m (a line of NEPs); beam 7: one stray edge.
+  const LaserScan scan = FineScan({4, 4, 4, 4, 4, 4, 4, 4, 4});
+  std::vector<Nep> neps(9);
+  for (size_t i = 0; i < 4; ++i) neps[i] = NepAt(scan, i, 1.5 + 0.01 * static_cast<double>(i));
+  neps[7] = NepAt(scan, 7, 2.2);
+  NepClassifierOptions options = ThesisRules();
+  options.min_obstacle_beams = 2;
+  const NepClassification out = Classify(scan, neps, {}, options);
+  ASSERT_EQ(out.possible_obstacles.size(), 4u);
+  EXPECT_EQ(out.possible_obstacles.back().beam, 3);
+  EXPECT_EQ(out.beams[7].relation, NepRelation::kIsolated);
+  EXPECT_EQ(out.isolated, 1);
+  // A one-beam gap keeps the line; NEPs far apart on neighbouring beams do not link.
+  neps.assign(9, Nep{});
+  neps[2] = NepAt(scan, 2, 1.5);
+  neps[4] = NepAt(scan, 4, 1.52);
+  neps[6] = NepAt(scan, 6, 3.0);
+  neps[7] = NepAt(scan, 7, 1.0);
+  const NepClassification gaps = Classify(scan, neps, {}, options);
+  EXPECT_EQ(gaps.beams[2].relation, NepRelation::kNearer);
+  EXPECT_EQ(gaps.beams[4].relation, NepRelation::kNearer);
+  EXPECT_EQ(gaps.beams[6].relation, NepRelation::kIsolated);
+  EXPECT_EQ(gaps.beams[7].relation, NepRelation::kIsolated);
+}
+
+TEST(NepClassifierTest, IsolatedNepConfirmsNoOutlier) {
+  const LaserScan scan = FineScan({3.0f, 1.2f, 3.0f});
+  NepClassifierOptions options = ThesisRules();
+  options.min_obstacle_beams = 2;
+  const NepClassification out =
+      Classify(scan, {Nep{}, NepAt(scan, 1, 0.6), Nep{}}, {false, true, false}, options);
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kIsolated);
+  EXPECT_FALSE(out.beams[1].confirmed_outlier);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 1.2f);
+}
+
 TEST(NepClassifierTest, RejectsSizeMismatchesWithAMessage) {
   const LaserScan scan = ScanOf({1.0f, 1.0f});
   NepClassification out;
@@ -130,6 +205,10 @@ TEST(NepClassifierTest, RejectsSizeMismatchesWithAMessage) {
   bad.edge_threshold_m = 0;
   EXPECT_FALSE(ClassifyNeps(scan, {Nep{}, Nep{}}, {}, bad, kLaserHeightM, &out, &error));
   EXPECT_NE(error.find("edge_threshold_m"), std::string::npos) << error;
+  bad = NepClassifierOptions{};
+  bad.min_obstacle_beams = 0;
+  EXPECT_FALSE(ClassifyNeps(scan, {Nep{}, Nep{}}, {}, bad, kLaserHeightM, &out, &error));
+  EXPECT_NE(error.find("min_obstacle_beams"), std::string::npos) << error;
 }
 
 }  // namespace

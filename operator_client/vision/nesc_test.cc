@@ -48,12 +48,14 @@ NescResult RunNescOn(const NedResult& left, const NedResult& right, const LaserS
   return out;
 }
 
+// Thesis 9.2 with the thesis' classification (every nearer NEP is a dot).
 NepClassification Classify(const LaserScan& scan, const NescResult& nesc) {
+  NepClassifierOptions options;
+  options.neighbour_beams = 0;
+  options.min_obstacle_beams = 1;
   NepClassification out;
   std::string error;
-  EXPECT_TRUE(
-      ClassifyNeps(scan, nesc.selected, {}, NepClassifierOptions{}, kLaserHeightM, &out, &error))
-      << error;
+  EXPECT_TRUE(ClassifyNeps(scan, nesc.selected, {}, options, kLaserHeightM, &out, &error)) << error;
   return out;
 }
 

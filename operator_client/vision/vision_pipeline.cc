@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <sstream>
 
 namespace mostar::vision {
@@ -33,11 +34,16 @@ proto::VisionConfig ToProto(const VisionOptions& options) {
   ned->set_step_px(options.nearest_edge.step_px);
   ned->set_lateral_tolerance_px(options.nearest_edge.lateral_tolerance_px);
   ned->set_bottom_margin_px(options.nearest_edge.bottom_margin_px);
+  ned->set_base_search_m(options.nearest_edge.base_search_m);
+  ned->set_min_step_grey(options.nearest_edge.min_step_grey);
+  ned->set_step_offset_px(options.nearest_edge.step_offset_px);
   config.set_edge_threshold_m(options.classifier.edge_threshold_m);
   config.set_stereo_threshold_m(options.nesc.stereo_threshold_m);
   config.set_stereo(options.stereo);
   config.set_keep_edge_images(options.keep_edge_images);
   config.set_min_threshold_px(options.classifier.min_threshold_px);
+  config.set_neighbour_beams(options.classifier.neighbour_beams);
+  config.set_min_obstacle_beams(options.classifier.min_obstacle_beams);
   return config;
 }
 
@@ -55,6 +61,9 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
   options.nearest_edge.step_px = ned.step_px();
   options.nearest_edge.lateral_tolerance_px = ned.lateral_tolerance_px();
   options.nearest_edge.bottom_margin_px = ned.bottom_margin_px();
+  options.nearest_edge.base_search_m = ned.base_search_m();
+  options.nearest_edge.min_step_grey = ned.min_step_grey();
+  options.nearest_edge.step_offset_px = ned.step_offset_px();
   options.classifier.edge_threshold_m = config.edge_threshold_m();
   options.nesc.stereo_threshold_m = config.has_stereo_threshold_m()
                                         ? config.stereo_threshold_m()
@@ -63,6 +72,8 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
   options.keep_edge_images = config.keep_edge_images();
   options.classifier.min_threshold_px = config.min_threshold_px();
   options.nesc.min_threshold_px = config.min_threshold_px();
+  options.classifier.neighbour_beams = config.neighbour_beams();
+  options.classifier.min_obstacle_beams = config.min_obstacle_beams();
   return options;
 }
 
@@ -110,41 +121,53 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) {
     return finish(false, why.str());
   }
 
-  const auto run_eye =
-      [&](const cv::Mat& image, const std::shared_ptr<const math::CameraModel>& camera_ptr,
-          NearestEdgeFinder* finder, const char* name, EdgeImages* edges, NedResult* ned) {
-        const math::CameraModel& camera = *camera_ptr;
-        if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
-          std::ostringstream why;
-          why << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
+  // One eye: the ray cache first (it gives the highest row the rays reach), then the
+  // pre-processing below that row only, then NED. Writes only its own outputs and `why`.
+  const auto run_eye = [&](const cv::Mat& image,
+                           const std::shared_ptr<const math::CameraModel>& camera_ptr,
+                           NearestEdgeFinder* finder, const char* name, EdgeImages* edges,
+                           NedResult* ned, std::string* why) {
+    const math::CameraModel& camera = *camera_ptr;
+    if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
+      std::ostringstream message;
+      message << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
               << camera.width_px() << "x" << camera.height_px();
-          error = why.str();
-          return false;
-        }
-        std::string why;
-        if (!detector_.Detect(image, edges, &why) ||
-            !finder->Find(edges->edges, camera_ptr, input.scan, ned, &why)) {
-          error = std::string(name) + ": " + why;
-          return false;
-        }
-        return true;
-      };
-
-  if (!run_eye(input.left, input.left_camera, &left_finder_, "left", &out->left_edges,
-               &out->left_ned)) {
-    return finish(false, error);
-  }
-  if (options_.stereo) {
-    if (!run_eye(input.right, input.right_camera, &right_finder_, "right", &out->right_edges,
-                 &out->right_ned)) {
-      return finish(false, error);
+      *why = message.str();
+      return false;
     }
+    std::string detail;
+    if (!finder->Prepare(camera_ptr, input.scan, &detail) ||
+        !detector_.Detect(image, edges, &detail, finder->top_row()) ||
+        !finder->Find(edges->edges, camera_ptr, input.scan, ned, &detail, edges->stretched_grey)) {
+      *why = std::string(name) + ": " + detail;
+      return false;
+    }
+    return true;
+  };
+
+  if (options_.stereo) {
+    // The two eyes are independent: one on each core.
+    bool ok[2] = {false, false};
+    std::string why[2];
+    cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
+      for (int eye = range.start; eye < range.end; ++eye) {
+        ok[eye] = eye == 0 ? run_eye(input.left, input.left_camera, &left_finder_, "left",
+                                     &out->left_edges, &out->left_ned, &why[0])
+                           : run_eye(input.right, input.right_camera, &right_finder_, "right",
+                                     &out->right_edges, &out->right_ned, &why[1]);
+      }
+    });
+    if (!ok[0] || !ok[1]) return finish(false, !ok[0] ? why[0] : why[1]);
     if (!RunNesc(out->left_ned, out->right_ned, input.scan, *input.right_camera, options_.nesc,
                  options_.classifier, &out->nesc, &error)) {
       return finish(false, "nesc: " + error);
     }
     out->selected = out->nesc.selected;
   } else {
+    if (!run_eye(input.left, input.left_camera, &left_finder_, "left", &out->left_edges,
+                 &out->left_ned, &error)) {
+      return finish(false, error);
+    }
     out->right_edges = EdgeImages{};
     out->right_ned = NedResult{};
     out->selected = out->left_ned.neps;

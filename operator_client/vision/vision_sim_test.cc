@@ -75,12 +75,19 @@ TEST_P(VisionSimTest, NepsLandOnTheGroundTruthBaseLines) {
                                distances_px.begin()) /
            static_cast<double>(distances_px.size());
   };
-  // The rendered floor darkens near obstacle bases (contact shadows) and the optics blur: a
-  // quarter of the NEPs sit at the shadow's rim a few pixels below the base; none far from it.
-  EXPECT_LE(median_px, 1.0);
-  EXPECT_GE(fraction_within(1.0), 0.65)
+  // With the base refinement (NearestEdgeOptions::base_search_m) most NEPs sit on the base line
+  // or the floor pixel under it. The rest, looked at in the images, are:
+  //  - contact-shadow rims: the simulator darkens the floor around every footprint
+  //    (ambient occlusion, 2 cm cells), and where the rim's gradient beats the base's (dark
+  //    obstacles) or the base lies beyond base_search_m (the glass partition seen obliquely by
+  //    the left eye), the NEP stays 2-3 px in front of the base;
+  //  - rays that pass a few centimetres beside thin legs or box corners and meet the contact
+  //    shadow or the side silhouette there, where no base line is drawn.
+  // Both are real image edges of the obstacle; none is far from it.
+  EXPECT_LE(median_px, 0.5);
+  EXPECT_GE(fraction_within(1.0), 0.80)
       << "median " << median_px << " px over " << distances_px.size() << " NEPs";
-  EXPECT_GE(fraction_within(6.0), 0.97);
+  EXPECT_GE(fraction_within(6.0), 0.98);
 }
 
 // The plain floor. Patterned floors give real floor edges (tile joints) that are not obstacle
