@@ -55,6 +55,12 @@ void StereoReceiver::Push(Eye eye, const CompressedImage& image) {
     }
     return;
   }
+  if (key <= newest_pair_ns_) {  // older than a pair already completed: never shown
+    other.erase(partner);
+    ++stats_.late_dropped;
+    return;
+  }
+  newest_pair_ns_ = key;
   CompressedStereoPair pair;
   pair.left = eye == Eye::kLeft ? image : partner->second;
   pair.right = eye == Eye::kLeft ? partner->second : image;

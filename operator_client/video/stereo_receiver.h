@@ -3,7 +3,8 @@
 // Push() is called from DDS threads and never blocks for long: the newest complete pair
 // replaces an undecoded one (counted as dropped). Latest() gives the most recent decoded pair to
 // the render loop without waiting. A broken JPEG is counted and dropped with its pair; nothing
-// else is lost. Thread-safe.
+// else is lost. Pairs are shown in capture order: a pair completed after a newer one (the robot
+// keeps several pairs in flight) is dropped and counted. Thread-safe.
 #pragma once
 
 #include <condition_variable>
@@ -34,6 +35,7 @@ struct ReceiverStats {
   uint64_t pairs_decoded = 0;
   uint64_t pairs_dropped = 0;     // replaced before decoding (render/decoder slower than input)
   uint64_t unpaired_dropped = 0;  // an eye whose partner never came
+  uint64_t late_dropped = 0;      // a pair completed after a newer one (several writers in flight)
   uint64_t broken_images = 0;     // undecodable JPEG data
   uint64_t bytes = 0;             // compressed bytes received
   double pair_rate_hz = 0;
@@ -61,6 +63,7 @@ class StereoReceiver {
   bool stop_ = false;
   std::map<int64_t, CompressedImage> pending_left_;  // by stamp (ns), waiting for the partner
   std::map<int64_t, CompressedImage> pending_right_;
+  int64_t newest_pair_ns_ = 0;  // capture stamp of the newest pair completed so far
   std::optional<CompressedStereoPair> to_decode_;
   SteadyTime to_decode_received_;
   std::optional<DecodedStereoPair> latest_;

@@ -64,5 +64,22 @@ TEST(StereoReceiverTest, UnpairedEyesAreDroppedAndCounted) {
   EXPECT_EQ(receiver.Stats().images, 3u);
 }
 
+TEST(StereoReceiverTest, PairCompletedAfterANewerOneIsDroppedAndCounted) {
+  StereoReceiver receiver;
+  // Pair 1 and pair 2 in flight on different writers; pair 2 completes first.
+  receiver.Push(Eye::kLeft, Jpeg(FromUnixNanos(2), 200));
+  receiver.Push(Eye::kRight, Jpeg(FromUnixNanos(2), 200));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 1; }));
+  receiver.Push(Eye::kRight, Jpeg(FromUnixNanos(1), 10));
+  receiver.Push(Eye::kLeft, Jpeg(FromUnixNanos(1), 10));
+  EXPECT_EQ(receiver.Stats().late_dropped, 1u);
+  receiver.Push(Eye::kLeft, Jpeg(FromUnixNanos(3), 90));
+  receiver.Push(Eye::kRight, Jpeg(FromUnixNanos(3), 90));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 2; }));
+  EXPECT_EQ(receiver.Latest()->stamp, FromUnixNanos(3));
+  EXPECT_EQ(receiver.Stats().late_dropped, 1u);
+  EXPECT_EQ(receiver.Stats().unpaired_dropped, 0u);
+}
+
 }  // namespace
 }  // namespace mostar::client

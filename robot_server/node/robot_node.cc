@@ -20,16 +20,23 @@ bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
 }  // namespace
 
 std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Callbacks callbacks,
-                                             const Clock* clock, std::string* error) {
+                                             const Clock* clock, std::string* error,
+                                             int video_window_pairs) {
+  if (video_window_pairs < 1) {
+    if (error) *error = "the video window must be at least one pair";
+    return nullptr;
+  }
   std::unique_ptr<RobotNode> node(new RobotNode());
   node->clock_ = clock;
   node->callbacks_ = std::move(callbacks);
   RobotNode* self = node.get();
   auto& p = *participant;
-  node->left_ =
-      std::make_unique<decltype(node->left_)::element_type>(p, topics::kCameraLeft, Stream::kVideo);
-  node->right_ = std::make_unique<decltype(node->right_)::element_type>(p, topics::kCameraRight,
-                                                                        Stream::kVideo);
+  for (int i = 0; i < video_window_pairs; ++i) {
+    VideoLane lane;
+    lane.left = std::make_unique<ImageWriter>(p, topics::kCameraLeft, Stream::kVideo);
+    lane.right = std::make_unique<ImageWriter>(p, topics::kCameraRight, Stream::kVideo);
+    node->lanes_.push_back(std::move(lane));
+  }
   node->left_info_ = std::make_unique<decltype(node->left_info_)::element_type>(
       p, topics::kCameraInfoLeft, Stream::kState);
   node->right_info_ = std::make_unique<decltype(node->right_info_)::element_type>(
@@ -65,10 +72,13 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(
       p, topics::kClockPing, Stream::kControl,
       [self](const dds::wire::ClockProbe& ping) { self->OnPing(dds::FromIdl(ping)); });
-  if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
-      !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
-      !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
-      !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
+  for (const VideoLane& lane : node->lanes_) {
+    if (!Check(lane.left, error) || !Check(lane.right, error)) return nullptr;
+  }
+  if (!Check(node->scan_, error) || !Check(node->left_info_, error) ||
+      !Check(node->right_info_, error) || !Check(node->odom_, error) ||
+      !Check(node->health_, error) || !Check(node->lease_, error) || !Check(node->pong_, error) ||
+      !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
@@ -103,13 +113,15 @@ std::optional<Duration> RobotNode::RobotMinusClient(const std::string& client_id
 }
 
 bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
-  // Ack-clock: while a reliable reader has not acknowledged the previous pair, the link is
-  // full; skip this pair at the source rather than queue it (the bitrate control then lowers
-  // the JPEG quality).
-  if (!left_->AllAcknowledged() || !right_->AllAcknowledged()) return false;
-  const bool left_ok = left_->Write(dds::ToIdl(pair.left));
-  const bool right_ok = right_->Write(dds::ToIdl(pair.right));
-  return left_ok && right_ok;
+  for (VideoLane& lane : lanes_) {
+    if (!lane.left->AllAcknowledged() || !lane.right->AllAcknowledged()) continue;
+    const bool left_ok = lane.left->Write(dds::ToIdl(pair.left));
+    const bool right_ok = lane.right->Write(dds::ToIdl(pair.right));
+    if (left_ok && right_ok) ++pairs_sent_;
+    return left_ok && right_ok;
+  }
+  ++pairs_skipped_;  // every lane busy: the link is full, skip rather than queue
+  return false;
 }
 
 void RobotNode::PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) {
@@ -117,7 +129,8 @@ void RobotNode::PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) {
 }
 
 void RobotNode::PublishImage(Eye eye, const CompressedImage& image) {
-  (eye == Eye::kLeft ? left_ : right_)->Write(dds::ToIdl(image));
+  VideoLane& lane = lanes_.front();
+  (eye == Eye::kLeft ? lane.left : lane.right)->Write(dds::ToIdl(image));
 }
 
 void RobotNode::PublishScan(const LaserScan& scan) { scan_->Write(dds::ToIdl(scan)); }

@@ -5,12 +5,14 @@
 // with receive and send stamps on the robot clock).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/dds/endpoint.h"
 #include "common/time/time.h"
@@ -35,12 +37,23 @@ class RobotNode {
     std::function<void(int alive_writers)> on_command_writers;
   };
 
-  // Creates every endpoint; null with `error` when one cannot be created.
-  static std::unique_ptr<RobotNode> Create(dds::Participant* participant, Callbacks callbacks,
-                                           const Clock* clock, std::string* error);
+  // Default number of stereo pairs that may be in flight unacknowledged (see PublishStereo).
+  static constexpr int kDefaultVideoWindowPairs = 4;
 
-  // Both eyes; false when the pair was not sent: skipped at the source because readers have not
-  // acknowledged the previous one yet (ack-clock), or refused by DDS.
+  // Creates every endpoint; null with `error` when one cannot be created. `video_window_pairs`
+  // (>= 1) is the ack-clock window: that many writer pairs ("lanes") per camera topic.
+  static std::unique_ptr<RobotNode> Create(dds::Participant* participant, Callbacks callbacks,
+                                           const Clock* clock, std::string* error,
+                                           int video_window_pairs = kDefaultVideoWindowPairs);
+
+  // Both eyes; false when the pair was not sent: skipped at the source because every lane still
+  // has an unacknowledged pair (ack-clock with a window), or refused by DDS.
+  //
+  // Ack-clock with a window: each camera topic has `video_window_pairs` reliable keep-last-1
+  // writers. A pair goes out on a lane whose previous pair every reliable reader acknowledged,
+  // so at most that many pairs are in flight: enough to fill a long link (one pair in flight
+  // caps the rate near 1 / round trip), never an unbounded queue. With no free lane the pair
+  // is skipped at the source and the bitrate control lowers the quality.
   bool PublishStereo(const CompressedStereoPair& pair);
   // Intrinsics of one eye (transient local: late joiners get them at once).
   void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info);
@@ -55,7 +68,10 @@ class RobotNode {
   std::optional<Duration> RobotMinusClient(const std::string& client_id) const;
 
   // Remote endpoints currently matched (for health: how many viewers and pilots).
-  int frame_subscribers() const { return left_->matched(); }
+  int frame_subscribers() const { return lanes_.front().left->matched(); }
+  // Pairs written and pairs skipped because no lane was free.
+  uint64_t pairs_sent() const { return pairs_sent_.load(); }
+  uint64_t pairs_skipped() const { return pairs_skipped_.load(); }
   int command_writers() const { return command_->matched(); }
 
  private:
@@ -68,8 +84,14 @@ class RobotNode {
   timesync::ClockOffsetTable clock_offsets_;
   std::mutex pong_mutex_;
   std::map<std::string, ClockProbe> last_pong_;  // per client: the pong we sent last
-  std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> left_;
-  std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> right_;
+  using ImageWriter = dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>;
+  struct VideoLane {
+    std::unique_ptr<ImageWriter> left;
+    std::unique_ptr<ImageWriter> right;
+  };
+  std::vector<VideoLane> lanes_;  // >= 1; lane 0 also carries single images (replay)
+  std::atomic<uint64_t> pairs_sent_{0};
+  std::atomic<uint64_t> pairs_skipped_{0};
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> left_info_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> right_info_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;

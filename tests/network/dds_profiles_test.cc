@@ -117,6 +117,9 @@ void CheckWan() {
     EXPECT_EQ(peers.begin()->kind, LOCATOR_KIND_TCPv4);
     EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "203.0.113.10");
     EXPECT_EQ(frtps::rtps::IPLocator::getPhysicalPort(*peers.begin()), 15100);
+    // The peer must equal the locator the robot announces (WAN part included), or Fast DDS
+    // 2.9 sends every message several times over the same connection.
+    EXPECT_EQ(frtps::rtps::IPLocator::toWanstring(*peers.begin()), "203.0.113.10") << name;
   }
 
   const auto relay_server =
@@ -131,6 +134,7 @@ void CheckWanViaRelay() {
   const auto& peers = qos.wire_protocol().builtin.initialPeersList;
   ASSERT_EQ(peers.size(), 1u);
   EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "198.51.100.20");
+  EXPECT_EQ(frtps::rtps::IPLocator::toWanstring(*peers.begin()), "198.51.100.20");
   EXPECT_EQ(frtps::rtps::IPLocator::getPhysicalPort(*peers.begin()), 15101);
 }
 
