@@ -25,6 +25,7 @@ void RobotState::SetLease(const ControlLease& lease) {
 void RobotState::SetOdometry(const Odometry& odometry) {
   std::lock_guard<std::mutex> lock(mutex_);
   snapshot_.odometry = odometry;
+  snapshot_.last_odometry_received = clock_->SteadyNow();
 }
 
 void RobotState::SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info) {
@@ -39,6 +40,17 @@ void RobotState::AddClockSample(const ClockProbe& probe) {
   snapshot_.clock = offset_.Estimate();
   last_pong_sequence_ = probe.sequence;
   last_pong_receipt_ = t3;
+  if (pong_sequences_.empty() || probe.sequence > pong_sequences_.back()) {
+    pong_sequences_.push_back(probe.sequence);
+  }
+  while (!pong_sequences_.empty() &&
+         pong_sequences_.front() + kPingLossWindow <= pong_sequences_.back()) {
+    pong_sequences_.pop_front();
+  }
+  if (pong_sequences_.size() >= 2) {
+    const double span = static_cast<double>(pong_sequences_.back() - pong_sequences_.front() + 1);
+    snapshot_.ping_loss = 1.0 - static_cast<double>(pong_sequences_.size()) / span;
+  }
 }
 
 Time RobotState::PongReceipt(uint64_t sequence) const {

@@ -29,6 +29,10 @@ struct RobotSnapshot {
   uint64_t scans = 0;
   SteadyTime last_scan_received;
   SteadyTime last_health_received;
+  SteadyTime last_odometry_received;
+  // Clock pings lost on the control path: the share of the last kPingLossWindow ping sequence
+  // numbers (up to the newest pong) whose pong never came; -1 until two pongs arrived.
+  double ping_loss = -1;
 };
 
 class RobotState {
@@ -57,6 +61,8 @@ class RobotState {
   mutable RateMeter scan_rate_;
   timesync::ClockOffsetEstimator offset_;
   RobotSnapshot snapshot_;
+  static constexpr size_t kPingLossWindow = 50;
+  std::deque<uint64_t> pong_sequences_;  // received, increasing, at most kPingLossWindow
   uint64_t last_pong_sequence_ = 0;
   Time last_pong_receipt_;
 };

@@ -62,5 +62,29 @@ TEST(RobotStateTest, ClockOffsetFromPongs) {
   EXPECT_NEAR(ToSeconds(estimate.responder_minus_requester), 2.0, 1e-6);
 }
 
+TEST(RobotStateTest, PingLossFromMissingPongSequences) {
+  FakeClock clock;
+  RobotState state(&clock);
+  EXPECT_LT(state.Snapshot().ping_loss, 0);  // unknown before two pongs
+  auto pong = [&](uint64_t sequence) {
+    ClockProbe p;
+    p.sequence = sequence;
+    p.t0 = clock.Now();
+    p.t1 = p.t0;
+    p.t2 = p.t0;
+    state.AddClockSample(p);
+  };
+  for (uint64_t s = 1; s <= 10; ++s) pong(s);
+  EXPECT_DOUBLE_EQ(state.Snapshot().ping_loss, 0.0);
+  for (uint64_t s = 11; s <= 20; ++s) {
+    if (s % 5 != 0) pong(s);  // 15 and 20 lost; 19 is the newest pong
+  }
+  // Sequences 1..19 seen except 15: 1 lost of 19.
+  EXPECT_NEAR(state.Snapshot().ping_loss, 1.0 / 19.0, 1e-9);
+  // The window forgets old losses: 100 more pongs without loss.
+  for (uint64_t s = 21; s <= 120; ++s) pong(s);
+  EXPECT_DOUBLE_EQ(state.Snapshot().ping_loss, 0.0);
+}
+
 }  // namespace
 }  // namespace mostar::client

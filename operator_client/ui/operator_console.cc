@@ -502,6 +502,22 @@ void OperatorConsole::DrawHud(const client::RobotSnapshot& robot,
                 ToSeconds(robot.clock.responder_minus_requester) * 1e3,
                 ToSeconds(robot.clock.round_trip) * 1e3);
   }
+  // Link health: control-path ping loss and the age of the last sample of each stream.
+  auto age_ms = [now](SteadyTime t) { return t == SteadyTime() ? -1.0 : ToSeconds(now - t) * 1e3; };
+  const std::string loss =
+      robot.ping_loss < 0 ? std::string("?")
+                          : std::to_string(static_cast<int>(robot.ping_loss * 100 + 0.5)) + " %";
+  ImGui::Text("link: ping loss %s  last video %.0f  scan %.0f  odom %.0f  health %.0f ms",
+              loss.c_str(), pair ? age_ms(pair->received) : -1.0, age_ms(robot.last_scan_received),
+              age_ms(robot.last_odometry_received), age_ms(robot.last_health_received));
+  const uint64_t lost_pairs = video.pairs_dropped + video.unpaired_dropped + video.late_dropped;
+  if (lost_pairs > 0) {
+    ImGui::Text("video pairs lost here: %llu (replaced %llu, unpaired %llu, late %llu)",
+                static_cast<unsigned long long>(lost_pairs),
+                static_cast<unsigned long long>(video.pairs_dropped),
+                static_cast<unsigned long long>(video.unpaired_dropped),
+                static_cast<unsigned long long>(video.late_dropped));
+  }
   const bool health_fresh =
       robot.health && now - robot.last_health_received < std::chrono::seconds(3);
   if (!health_fresh) {

@@ -42,17 +42,25 @@ namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
 
+// Counts and ages per topic. With a warm-up, samples received in the first `warmup` after the
+// first sample of any topic (discovery, start-up bursts) are written to the samples file but
+// left out of counts and percentiles: they measure the steady state.
 class Recorder {
  public:
+  explicit Recorder(double warmup_s) : warmup_ns_(static_cast<int64_t>(warmup_s * 1e9)) {}
   void Add(const std::string& topic, Time stamp) {
     const int64_t now_ns = ToUnixNanos(clock_.Now());
     std::lock_guard<std::mutex> lock(mutex_);
+    if (first_ns_ == 0) first_ns_ = now_ns;
+    if (samples_.is_open()) samples_ << topic << ',' << now_ns << ',' << ToUnixNanos(stamp) << '\n';
+    if (now_ns - first_ns_ < warmup_ns_) return;
     ++counts_[topic];
     ages_ms_[topic].push_back(static_cast<double>(now_ns - ToUnixNanos(stamp)) * 1e-6);
-    if (samples_.is_open()) samples_ << topic << ',' << now_ns << ',' << ToUnixNanos(stamp) << '\n';
   }
   void AddValue(const std::string& name, double value_ms) {
+    const int64_t now_ns = ToUnixNanos(clock_.Now());
     std::lock_guard<std::mutex> lock(mutex_);
+    if (first_ns_ == 0 || now_ns - first_ns_ < warmup_ns_) return;
     ages_ms_[name].push_back(value_ms);
     ++counts_[name];
   }
@@ -75,7 +83,17 @@ class Recorder {
     return v[i];
   }
 
+  // Seconds of steady state measured so far (after the warm-up); 0 before it ends.
+  double MeasuredSeconds() {
+    const int64_t now_ns = ToUnixNanos(clock_.Now());
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (first_ns_ == 0) return 0;
+    return std::max<double>(0.0, static_cast<double>(now_ns - first_ns_ - warmup_ns_) * 1e-9);
+  }
+
  private:
+  const int64_t warmup_ns_;
+  int64_t first_ns_ = 0;  // receive time of the first sample, ns since the epoch
   SystemClock clock_;
   std::mutex mutex_;
   std::map<std::string, int> counts_;
@@ -92,6 +110,7 @@ int Main(int argc, char** argv) {
   std::string samples_path;
   bool try_command_writer = false;
   bool ping = true;
+  double warmup_s = 0;
   app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--dds-profile", options.profile, "'loopback' or a Fast DDS XML profiles file");
   app.add_option("--profile-name", options.name, "participant profile in the XML file");
@@ -101,9 +120,12 @@ int Main(int argc, char** argv) {
   app.add_option("--samples", samples_path, "write topic,receive_ns,stamp_ns per sample");
   app.add_flag("--try-command-writer", try_command_writer, "ask DDS for a cmd_vel writer");
   app.add_flag("!--no-ping", ping, "do not send clock pings");
+  app.add_option("--warmup-s", warmup_s,
+                 "leave the first seconds after the first sample out of the statistics")
+      ->check(CLI::Range(0.0, 3600.0));
   CLI11_PARSE(app, argc, argv);
 
-  Recorder recorder;
+  Recorder recorder(warmup_s);
   if (!recorder.OpenSamples(samples_path)) {
     std::cerr << "net_probe: cannot write " << samples_path << "\n";
     return 2;
@@ -194,13 +216,13 @@ int Main(int argc, char** argv) {
                 "probe: left=%d right=%d scan=%d odom=%d health=%d lease=%d "
                 "left_age_p50_ms=%.1f left_age_p95_ms=%.1f scan_age_p50_ms=%.1f "
                 "scan_age_p95_ms=%.1f ping_oneway_p50_ms=%.1f ping_rtt_p50_ms=%.1f pongs=%d "
-                "command_writer=%s",
+                "command_writer=%s measured_s=%.2f",
                 recorder.Count("left"), recorder.Count("right"), recorder.Count("scan"),
                 recorder.Count("odom"), recorder.Count("health"), recorder.Count("lease"),
                 recorder.Percentile("left", 0.5), recorder.Percentile("left", 0.95),
                 recorder.Percentile("scan", 0.5), recorder.Percentile("scan", 0.95),
                 recorder.Percentile("ping_oneway", 0.5), recorder.Percentile("ping_rtt", 0.5),
-                recorder.Count("ping_rtt"), command_writer.c_str());
+                recorder.Count("ping_rtt"), command_writer.c_str(), recorder.MeasuredSeconds());
   std::cout << line << std::endl;
   return 0;
 }
