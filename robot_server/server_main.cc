@@ -530,7 +530,8 @@ int Run(int argc, char** argv) {
                      << request.sender_id << ": " << drive::LeaseDecisionName(decision)
                      << "; holder now '" << lease.holder() << "'";
   };
-  node = RobotNode::Create(participant.get(), callbacks, clock, &error);
+  node = RobotNode::Create(participant.get(), callbacks, clock, &error,
+                           config.dds().video_window_pairs());
   if (!node) {
     std::cerr << "robot_server: " << error << "\n";
     return 1;
