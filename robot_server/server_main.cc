@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -90,6 +91,20 @@ bool ReplaysCamera(const ServerConfig& config) {
 }
 bool ReplaysLaser(const ServerConfig& config) { return !config.laser().replay().file().empty(); }
 
+// Built-in video sources (test pattern, simulator): the bitrate control of `camera.bitrate` when
+// the configuration has one (e.g. a WAN target), else the defaults; JPEG quality starts at
+// `initial_quality`.
+void UseConfiguredBitrate(const ServerConfig& config, int initial_quality,
+                          camera::CameraPipelineOptions* options) {
+  if (config.camera().has_bitrate()) {
+    const camera::CameraPipelineOptions configured = camera::MakePipelineOptions(config.camera());
+    options->bitrate_classes = configured.bitrate_classes;
+    options->bitrate = configured.bitrate;
+  }
+  options->bitrate.initial_quality =
+      std::clamp(initial_quality, options->bitrate.min_quality, options->bitrate.max_quality);
+}
+
 // The devices of the configured source; a camera or laser that a replay replaces is not made.
 bool MakeSourceDevices(const ServerConfig& config, const std::string& config_dir,
                        const Clock* clock, drive::DriveSettings* settings, Devices* devices,
@@ -105,7 +120,7 @@ bool MakeSourceDevices(const ServerConfig& config, const std::string& config_dir
       auto robot = std::make_unique<testpattern::KinematicRobot>(room, clock);
       devices->camera = std::make_unique<testpattern::TestPatternCamera>(
           robot.get(), tp.width_px(), tp.height_px(), tp.frame_rate_hz(), clock);
-      devices->camera_options.bitrate.initial_quality = tp.jpeg_quality();
+      UseConfiguredBitrate(config, tp.jpeg_quality(), &devices->camera_options);
       devices->pattern_robot = std::move(robot);
       return true;
     }
@@ -132,7 +147,7 @@ bool MakeSourceDevices(const ServerConfig& config, const std::string& config_dir
         devices->camera = std::make_unique<sim::SimStereoCamera>(
             devices->world.get(), config.test_pattern().frame_rate_hz(), clock);
       }
-      devices->camera_options.bitrate.initial_quality = config.test_pattern().jpeg_quality();
+      UseConfiguredBitrate(config, config.test_pattern().jpeg_quality(), &devices->camera_options);
       const sim::LaserCameraCalibration& truth = devices->world->calibration();
       for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
         CameraIntrinsicsInfo info;

@@ -67,6 +67,7 @@ void CheckLan();
 void CheckWan();
 void CheckWanViaRelay();
 void CheckDiscoveryServer();
+void CheckWanUdp();
 void CheckUnknownProfile();
 
 TEST_F(DdsProfilesTest, LanProfilesUseUdpAndLargeSharedMemory) { IN_OWN_PROCESS(CheckLan()); }
@@ -74,6 +75,9 @@ TEST_F(DdsProfilesTest, WanRobotIsTcpServerAndOperatorsDialIt) { IN_OWN_PROCESS(
 TEST_F(DdsProfilesTest, WanViaRelayOperatorDialsTheRelay) { IN_OWN_PROCESS(CheckWanViaRelay()); }
 TEST_F(DdsProfilesTest, DiscoveryServerProfilesAreClientsOfServerZero) {
   IN_OWN_PROCESS(CheckDiscoveryServer());
+}
+TEST_F(DdsProfilesTest, WanUdpProfilesAreUnicastWithSmallFragments) {
+  IN_OWN_PROCESS(CheckWanUdp());
 }
 TEST_F(DdsProfilesTest, UnknownProfileNameIsRefused) { IN_OWN_PROCESS(CheckUnknownProfile()); }
 
@@ -150,6 +154,24 @@ void CheckDiscoveryServer() {
     const auto& locator = *server.metatrafficUnicastLocatorList.begin();
     EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(locator), "192.0.2.10");
     EXPECT_EQ(locator.port, 11811u);
+  }
+}
+
+void CheckWanUdp() {
+  for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
+    const auto qos = Load("wan_udp.xml", name);
+    EXPECT_FALSE(qos.transport().use_builtin_transports) << name;
+    const auto udp = Transports<UDPv4TransportDescriptor>(qos);
+    ASSERT_EQ(udp.size(), 1u) << name;
+    EXPECT_EQ(qos.transport().user_transports.size(), 1u) << name << ": UDP only";
+    // One lost packet must cost one fragment, not a whole 64 KB datagram.
+    EXPECT_LE(udp[0]->maxMessageSize, 1472u) << name;
+    const auto& peers = qos.wire_protocol().builtin.initialPeersList;
+    const bool dials = std::string(name) == "operator" || std::string(name) == "relay";
+    if (dials) {
+      ASSERT_EQ(peers.size(), 1u) << name;
+      EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "203.0.113.10") << name;
+    }
   }
 }
 

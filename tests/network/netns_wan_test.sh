@@ -3,13 +3,22 @@
 # profile deploy/dds/wan.xml with the robot's address filled in. Checks that stereo frames,
 # scans and health reach the operator, and that its commands reach the robot and are accepted.
 #
-# Usage: netns_wan_test.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR [--emulated]
+# Usage: netns_wan_test.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR [--emulated] [--udp]
 #   --emulated  the path goes through netem_relay: 100 ms RTT, 1 % loss each way, 8 Mbit/s
+#   --udp       deploy/dds/wan_udp.xml (UDP unicast, for VPN links) instead of wan.xml; with
+#               --emulated the direct veth is taken down so that nothing bypasses the relay
 # Exit 77 (CTest: skipped) when network namespaces cannot be created. Needs xvfb-run.
 set -euo pipefail
-[ $# -ge 4 ] || { echo "usage: netns_wan_test.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR [--emulated]" >&2; exit 2; }
+[ $# -ge 4 ] || { echo "usage: netns_wan_test.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR [--emulated] [--udp]" >&2; exit 2; }
 robot_server=$1; operator_client=$2; netem_relay=$3; src=$4
-emulated=0; [ "${5:-}" = "--emulated" ] && emulated=1
+emulated=0; profile=wan.xml
+for option in "${@:5}"; do
+  case "$option" in
+    --emulated) emulated=1 ;;
+    --udp) profile=wan_udp.xml ;;
+    *) echo "netns_wan_test: unknown option $option" >&2; exit 2 ;;
+  esac
+done
 here=$(cd "$(dirname "$0")" && pwd)
 "$here/netns.sh" check || exit 77
 command -v xvfb-run >/dev/null || { echo "netns_wan_test: xvfb-run is missing"; exit 77; }
@@ -43,7 +52,11 @@ if [ "$emulated" = 1 ]; then
   for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
   grep -q ready "$work/netem.log" || { cat "$work/netem.log"; echo "FAIL: netem_relay"; exit 1; }
 fi
-sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
+sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/$profile" > "$work/wan.xml"
+if [ "$profile" = wan_udp.xml ] && [ "$emulated" = 1 ]; then
+  # UDP participants announce every interface address: leave only the emulated path.
+  ip -n "${prefix}_robot" link set veth0 down; ip -n "${prefix}_operator" link set veth0 down
+fi
 # The shipped simulator configuration with the test-pattern video at VIDEO_HZ frames/s per eye
 # and JPEG quality VIDEO_QUALITY (defaults 30 Hz, q80; the ack-clock fits it to the link).
 video_hz=${VIDEO_HZ:-30}; video_quality=${VIDEO_QUALITY:-80}
@@ -73,7 +86,7 @@ sent=$(count command "$work/client.csv"); accepted=$(count command "$work/server
 # Every command the robot accepted must be one the client sent (same sequence numbers).
 unknown=$(comm -13 <(grep '^command,' "$work/client.csv" | cut -d, -f3 | sort -u) \
                    <(grep '^command,' "$work/server.csv" | cut -d, -f3 | sort -u) | wc -l)
-echo "netns_wan_test (emulated=$emulated): left=$left right=$right scan=$scan health=$health" \
+echo "netns_wan_test (emulated=$emulated, $profile): left=$left right=$right scan=$scan health=$health" \
   "commands sent=$sent accepted=$accepted unknown=$unknown client_exit=$client_exit"
 failures=0
 check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }

@@ -9,7 +9,8 @@
 # Rows: loopback profile; WAN TCP profile over a plain veth; WAN TCP profile over netem_relay
 # (100 ms RTT, 1 % loss each way, 8 Mbit/s) with BBR and with CUBIC congestion control, and
 # with the initial peer written without its WAN address (the form that makes Fast DDS 2.9 send
-# every message many times). Needs root.
+# every message many times); and the UDP unicast profile wan_udp.xml over the same path. Needs
+# root.
 set -euo pipefail
 [ $# -eq 4 ] || { echo "usage: network_bench.sh ROBOT_SERVER NET_PROBE NETEM_RELAY SOURCE_DIR" >&2; exit 2; }
 robot_server=$1; net_probe=$2; netem_relay=$3; src=$4
@@ -64,15 +65,25 @@ row "WAN TCP profile, veth (no shaping)" "${prefix}_robot" "${prefix}_operator" 
 sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/wan.xml" > "$work/wan_emu.xml"
 # The initial peers without <wan_address> (how wan.xml was first written).
 sed -e "/<wan_address>/d" "$work/wan_emu.xml" > "$work/wan_emu_nowan.xml"
-emulated() {  # label, profile, congestion control
-  congestion "$3" || { printf '| %s | 30 Hz q80 | not run (this machine cannot select %s) | | | | |\n' "$1" "$3"; return; }
+emulated() {  # label, profile, congestion control (TCP) or "udp"
+  if [ "$3" = udp ]; then
+    # UDP participants announce every address: only the emulated path may stay up.
+    ip -n "${prefix}_robot" link set veth0 down; ip -n "${prefix}_operator" link set veth0 down
+  elif ! congestion "$3"; then
+    printf '| %s | 30 Hz q80 | not run (this machine cannot select %s) | | | | |\n' "$1" "$3"; return
+  fi
   "$netem_relay" --netns-a "${prefix}_robot" --netns-b "${prefix}_operator" --delay-ms 50 \
     --jitter-ms 5 --loss 0.01 --rate-kbit 8000 --duration-s $((seconds + warmup + 40)) > "$work/netem.log" 2>&1 &
   netem=$!
   sleep 0.5
   row "$1" "${prefix}_robot" "${prefix}_operator" "$2" 30 80
   kill "$netem" 2>/dev/null || true; wait "$netem" 2>/dev/null || true
+  if [ "$3" = udp ]; then
+    ip -n "${prefix}_robot" link set veth0 up; ip -n "${prefix}_operator" link set veth0 up
+  fi
 }
 emulated "WAN TCP, 100 ms RTT, 1 % loss, 8 Mbit/s, BBR" "$work/wan_emu.xml" bbr
 emulated "same, CUBIC" "$work/wan_emu.xml" cubic
 emulated "same, BBR, initial peer without WAN address" "$work/wan_emu_nowan.xml" bbr
+sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/wan_udp.xml" > "$work/wan_udp_emu.xml"
+emulated "WAN UDP (wan_udp.xml), 100 ms RTT, 1 % loss, 8 Mbit/s" "$work/wan_udp_emu.xml" udp
