@@ -82,6 +82,7 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
+  node->publisher_ = std::thread([self] { self->PublisherLoop(); });
   return node;
 }
 
@@ -133,9 +134,61 @@ void RobotNode::PublishImage(Eye eye, const CompressedImage& image) {
   (eye == Eye::kLeft ? lane.left : lane.right)->Write(dds::ToIdl(image));
 }
 
-void RobotNode::PublishScan(const LaserScan& scan) { scan_->Write(dds::ToIdl(scan)); }
-void RobotNode::PublishOdometry(const Odometry& odometry) { odom_->Write(dds::ToIdl(odometry)); }
-void RobotNode::PublishHealth(const RobotHealth& health) { health_->Write(dds::ToIdl(health)); }
-void RobotNode::PublishLease(const ControlLease& lease) { lease_->Write(dds::ToIdl(lease)); }
+void RobotNode::PublishScan(const LaserScan& scan) {
+  Post([this, m = dds::ToIdl(scan)] { scan_->Write(m); });
+}
+void RobotNode::PublishOdometry(const Odometry& odometry) {
+  Post([this, m = dds::ToIdl(odometry)] { odom_->Write(m); });
+}
+void RobotNode::PublishHealth(const RobotHealth& health) {
+  Post([this, m = dds::ToIdl(health)] { health_->Write(m); });
+}
+void RobotNode::PublishLease(const ControlLease& lease) {
+  Post([this, m = dds::ToIdl(lease)] { lease_->Write(m); });
+}
+
+void RobotNode::Post(std::function<void()> write) {
+  {
+    std::lock_guard<std::mutex> lock(outbox_mutex_);
+    if (outbox_.size() >= kOutboxCapacity) {
+      outbox_.pop_front();
+      ++outbox_dropped_;
+    }
+    outbox_.push_back(std::move(write));
+  }
+  outbox_cv_.notify_all();
+}
+
+void RobotNode::PublisherLoop() {
+  std::unique_lock<std::mutex> lock(outbox_mutex_);
+  while (true) {
+    outbox_cv_.wait(lock, [this] { return stop_ || !outbox_.empty(); });
+    if (outbox_.empty()) return;  // stopping and nothing left
+    std::function<void()> write = std::move(outbox_.front());
+    outbox_.pop_front();
+    writing_ = true;
+    lock.unlock();
+    write();  // may block while a link is down; callers keep posting meanwhile
+    lock.lock();
+    writing_ = false;
+    outbox_cv_.notify_all();
+  }
+}
+
+bool RobotNode::FlushOutbox(Duration timeout) {
+  std::unique_lock<std::mutex> lock(outbox_mutex_);
+  return outbox_cv_.wait_for(lock, timeout, [this] { return outbox_.empty() && !writing_; });
+}
+
+RobotNode::~RobotNode() {
+  if (publisher_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(outbox_mutex_);
+      stop_ = true;
+    }
+    outbox_cv_.notify_all();
+    publisher_.join();
+  }
+}
 
 }  // namespace mostar::server

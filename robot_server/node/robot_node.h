@@ -6,12 +6,15 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/dds/endpoint.h"
@@ -59,10 +62,22 @@ class RobotNode {
   void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info);
   // One eye, unconditionally (replay).
   void PublishImage(Eye eye, const CompressedImage& image);
+  // Scans, odometry, health and lease never block the caller (the control loop): they go into
+  // an outbox that a publisher thread writes to DDS in order. A DDS write can block for as long
+  // as a TCP link is down (the writer's mutex is held by a send into a full socket); the outbox
+  // then keeps the newest kOutboxCapacity samples and counts the older ones it drops.
   void PublishScan(const LaserScan& scan);
   void PublishOdometry(const Odometry& odometry);
   void PublishHealth(const RobotHealth& health);
   void PublishLease(const ControlLease& lease);
+  static constexpr size_t kOutboxCapacity = 256;
+  uint64_t outbox_dropped() const { return outbox_dropped_.load(); }
+  // Waits until the outbox is empty (tests, orderly shutdown); false on timeout.
+  bool FlushOutbox(Duration timeout);
+
+  ~RobotNode();
+  RobotNode(const RobotNode&) = delete;
+  RobotNode& operator=(const RobotNode&) = delete;
 
   // Robot clock minus the client's clock, once enough ping exchanges completed.
   std::optional<Duration> RobotMinusClient(const std::string& client_id) const;
@@ -78,6 +93,8 @@ class RobotNode {
   RobotNode() = default;
 
   void OnPing(const ClockProbe& ping);
+  void Post(std::function<void()> write);
+  void PublisherLoop();
 
   const Clock* clock_ = nullptr;
   Callbacks callbacks_;
@@ -92,6 +109,13 @@ class RobotNode {
   std::vector<VideoLane> lanes_;  // >= 1; lane 0 also carries single images (replay)
   std::atomic<uint64_t> pairs_sent_{0};
   std::atomic<uint64_t> pairs_skipped_{0};
+  std::mutex outbox_mutex_;
+  std::condition_variable outbox_cv_;
+  std::deque<std::function<void()>> outbox_;  // DDS writes waiting for the publisher thread
+  bool writing_ = false;                      // the publisher thread is inside a write
+  bool stop_ = false;
+  std::atomic<uint64_t> outbox_dropped_{0};
+  std::thread publisher_;  // started last in Create, joined first in the destructor
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> left_info_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> right_info_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;
