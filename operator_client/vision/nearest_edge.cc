@@ -222,16 +222,16 @@ Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
     return true;
   };
   // A thin line on the floor (tile joint, drawing) has floor on both sides; an obstacle base
-  // separates the floor from something else.
+  // separates the floor from something else. An edge within step_offset_px of the ray's start
+  // (the image border) has no floor pixels before it: it cannot be told from a line and fails.
+  // One within step_offset_px of the ray's end has nothing visible beyond it and passes.
   const auto is_step = [&](size_t i) {
     if (options.min_step_grey <= 0 || grey.empty()) return true;
     const auto centre = static_cast<ptrdiff_t>(i);
     const ptrdiff_t near = options.step_offset_px, far = 2 * options.step_offset_px;
     double before = 0.0, after = 0.0;
-    if (!mean_grey(centre - far, centre - near, &before) ||
-        !mean_grey(centre + near, centre + far, &after)) {
-      return true;
-    }
+    if (!mean_grey(centre - far, centre - near, &before)) return false;
+    if (!mean_grey(centre + near, centre + far, &after)) return true;
     return std::abs(after - before) >= options.min_step_grey;
   };
   for (size_t i = 0; i < pixels.size(); ++i) {

@@ -49,7 +49,9 @@ struct NearestEdgeOptions {
   // Step test: an edge pixel counts only when the mean stretched grey of the ray pixels
   // [step_offset_px, 2 step_offset_px] beyond it differs from that of the same span before it
   // by at least min_step_grey levels. Thin lines on the floor (tile joints, drawings) have floor
-  // on both sides and fail it; obstacle bases pass. Needs the grey image. 0 = off (the thesis).
+  // on both sides and fail it; obstacle bases pass. An edge with no ray pixels before it (within
+  // step_offset_px of the image border) cannot be told from a line and fails. Needs the grey
+  // image. 0 = off (the thesis).
   int min_step_grey = 0;
   int step_offset_px = 3;  // in [1, 20]
 

@@ -260,6 +260,30 @@ TEST(NearestEdgeTest, StepTestSkipsThinFloorLinesButNotObstacleBases) {
   EXPECT_NEAR(nep.distance_m, 3.0, 0.1);
 }
 
+// An edge at the ray's start (the image border) has no floor before it to compare with: the
+// step test cannot tell it from a line on the floor and skips it.
+TEST(NearestEdgeTest, StepTestSkipsEdgesWithNoFloorBeforeThem) {
+  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  NearestEdgeOptions options;
+  options.base_search_m = 0.0;
+  const RayPixels ray = TraceRayPixels(camera, 0.0, options);
+  ASSERT_GT(ray.pixels.size(), 20u);
+  const int border_row = ray.pixels[1].row;
+  const int base_row =
+      static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 3.0, 0.40))->y()));
+  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(200));
+  grey.rowRange(border_row, 480).setTo(120);  // something dark at the border, floor beyond
+  grey.rowRange(0, base_row + 1).setTo(60);   // an obstacle standing at 3 m
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(border_row).setTo(255);
+  edges.row(base_row).setTo(255);
+  EXPECT_EQ(FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey).pixel.y(), border_row);
+  options.min_step_grey = 45;
+  const Nep nep = FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey);
+  ASSERT_TRUE(nep.found);
+  EXPECT_EQ(nep.pixel.y(), base_row);
+}
+
 TEST(NearestEdgeTest, FinderReportsTheHighestRowItsRaysRead) {
   const auto camera = std::make_shared<const math::CameraModel>(Calibration(), math::Eye::kMono);
   const LaserScan scan = ScanWithBeams(181, 3.0f);

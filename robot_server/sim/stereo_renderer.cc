@@ -43,6 +43,7 @@ CameraParams CameraParams::FromProto(const proto::CameraConfig& c) {
   p.noise_sigma = c.noise_sigma();
   p.blur_sigma_px = c.blur_sigma_px();
   p.vignetting = c.vignetting();
+  p.contact_shadows = c.contact_shadows();
   p.seed = c.seed();
   p.artifact = c.artifact();
   return p;
@@ -203,7 +204,7 @@ cv::Mat StereoRenderer::RenderEye(Eye eye, const Pose2D& pose, uint64_t frame_in
         label = hit.kind == RayHit::kCeiling ? kLabelCeiling : kLabelVoid;
       }
       if (label_row) label_row[u] = label;
-      const Rgb colour = world_.Shade(hit);
+      const Rgb colour = world_.Shade(hit, params_.contact_shadows);
       // Light fades away from the robot (lamps spread along the ceiling).
       const double dist = hit.kind == RayHit::kNothing ? 0.0 : best_h;
       const auto k_px = static_cast<float>(gain * t.vignette[i] / (1.0 + 0.035 * dist));

@@ -31,6 +31,7 @@ struct CameraParams {
   double noise_sigma = 2.0;    // grey levels
   double blur_sigma_px = 0.6;  // 0 = off
   bool vignetting = true;
+  bool contact_shadows = true;  // see CameraConfig.contact_shadows
   uint64_t seed = 2;
   proto::ArtifactConfig artifact;
 

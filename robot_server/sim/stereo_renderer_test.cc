@@ -158,6 +158,37 @@ TEST_F(RendererFixture, CheckerboardFloorShowsBothColours) {
   EXPECT_GT(cv::countNonZero(bottom > 120), 5000);
 }
 
+// Contact shadows darken the floor in front of a base and the wall just above it; switched
+// off, both look exactly like open floor and the rest of the wall.
+TEST_F(RendererFixture, ContactShadowsCanBeSwitchedOff) {
+  // At 2.2 m from the cameras a floor row spans ~1.2 cm, a wall row ~0.5 cm.
+  const std::string wall = "wall { x0_m: 2 y0_m: -20 x1_m: 2 y1_m: 20 }";
+  Build("");
+  const cv::Mat open_floor = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, nullptr);
+  for (const bool shadows : {true, false}) {
+    SCOPED_TRACE(shadows ? "shadows on" : "shadows off");
+    proto::SimConfig config = NoiselessConfig();
+    config.mutable_camera()->set_contact_shadows(shadows);
+    Build(wall, config);
+    ImageGroundTruth truth;
+    const cv::Mat image = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 0, &truth);
+    const int u = 320, base = truth.base_row_px[u];
+    ASSERT_GT(base, 0);
+    const int floor_near = image.at<cv::Vec3b>(base + 2, u)[1];  // ~2 cm in front of the base
+    const int floor_open = open_floor.at<cv::Vec3b>(base + 2, u)[1];
+    const int wall_low = image.at<cv::Vec3b>(base - 1, u)[1];  // ~1 cm above the floor
+    const int wall_high = image.at<cv::Vec3b>(base - 40, u)[1];
+    ASSERT_EQ(truth.labels.at<uint8_t>(base - 40, u), 1);
+    if (shadows) {
+      EXPECT_LT(floor_near, 0.85 * floor_open);
+      EXPECT_LT(wall_low, 0.9 * wall_high);
+    } else {
+      EXPECT_EQ(floor_near, floor_open);
+      EXPECT_EQ(wall_low, wall_high);
+    }
+  }
+}
+
 TEST(GroundTruthTest, BaseRowsPickTheLowestObstacleOverFloor) {
   ImageGroundTruth truth;
   truth.labels = cv::Mat(6, 2, CV_8U, cv::Scalar(kLabelFloor));

@@ -410,7 +410,7 @@ float World::FloorOcclusion(double x, double y) const {
   return occlusion_.at<float>(r, c);
 }
 
-Rgb World::Shade(const RayHit& hit) const {
+Rgb World::Shade(const RayHit& hit, bool contact_shadows) const {
   const double amb = lighting_.ambient, bright = lighting_.brightness;
   switch (hit.kind) {
     case RayHit::kNothing:
@@ -420,8 +420,8 @@ Rgb World::Shade(const RayHit& hit) const {
     case RayHit::kFloor: {
       bool inside, dark;
       const Rgb albedo = FloorAlbedo(hit.x_m, hit.y_m, &inside, &dark);
-      const double k =
-          (amb + (1 - amb) * 0.5 * (1.0 + lighting_.lz)) * FloorOcclusion(hit.x_m, hit.y_m);
+      double k = amb + (1 - amb) * 0.5 * (1.0 + lighting_.lz);
+      if (contact_shadows) k *= FloorOcclusion(hit.x_m, hit.y_m);
       return Scale(albedo, k * bright);
     }
     case RayHit::kObstacle: {
@@ -432,7 +432,7 @@ Rgb World::Shade(const RayHit& hit) const {
       const double cos_l = hit.nx * lighting_.lx + hit.ny * lighting_.ly + hit.nz * lighting_.lz;
       const double diffuse = 0.5 * (1.0 + cos_l);
       double k = amb + (1 - amb) * diffuse;
-      if (hit.face == Face::kSide && hit.obstacle->z_min_m < 0.05 &&
+      if (contact_shadows && hit.face == Face::kSide && hit.obstacle->z_min_m < 0.05 &&
           hit.z_m - hit.obstacle->z_min_m < 0.25) {
         k *= 1.0 - 0.25 * std::exp(-(hit.z_m - hit.obstacle->z_min_m) / 0.04);
       }

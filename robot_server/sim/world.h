@@ -126,7 +126,8 @@ class World {
   float FloorOcclusion(double x_m, double y_m) const;
 
   // Lit colour of a hit (kNothing gives the dark void colour). Distance fall-off excluded.
-  Rgb Shade(const RayHit& hit) const;
+  // `contact_shadows`: apply FloorOcclusion and the darkening of obstacle sides near the floor.
+  Rgb Shade(const RayHit& hit, bool contact_shadows = true) const;
 
  private:
   proto::Scene scene_;
