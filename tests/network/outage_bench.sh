@@ -25,6 +25,7 @@
 # PROBE_LEAD_S (3: probe start before the pilot's), SPEED (0.2 m/s), PRE_S (3: driving before the cut), POST_S
 # (seconds measured after the link comes back; default 15, and 2N - 5 for outages N > 10 s so
 # that TCP's retransmission backoff can run out), HEALTH_PERIOD_S (0.05: counter resolution), VIDEO_HZ (30), VIDEO_QUALITY (80),
+# RTO_MAX_MS caps TCP's retransmission timeout in both namespaces (net.ipv4.tcp_rto_max_ms),
 # KEEP_WORK=1 keeps the traces, logs, recordings and `ss` snapshots; STACKS=1 (diagnosis only:
 # it pauses the robot for a moment) also saves the robot's thread stacks 1 s into the outage.
 # Thread stacks of both programs are always saved after the measured window (with gdb).
@@ -75,6 +76,13 @@ cleanup() {
 trap cleanup EXIT
 trap "exit 1" INT TERM
 "$here/netns.sh" up "$prefix"
+if [ -n "${RTO_MAX_MS:-}" ]; then
+  # Cap TCP's retransmission backoff (Linux >= 6.15) so that a link that comes back is used
+  # within RTO_MAX_MS instead of after the next doubled timeout (up to 2 minutes).
+  for ns in "${prefix}_robot" "${prefix}_operator"; do
+    ip netns exec "$ns" sysctl -qw net.ipv4.tcp_rto_max_ms="$RTO_MAX_MS"
+  done
+fi
 rns="${prefix}_robot"; ons="${prefix}_operator"
 
 sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
