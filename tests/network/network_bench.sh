@@ -44,7 +44,7 @@ row() {  # label, robot netns, probe netns, profile, hz, quality
   pids+=($!)
   sleep 1
   local out
-  out=$(timeout $((seconds + warmup + 30)) ${pns:+ip netns exec "$pns"} "$net_probe" --domain "$domain" \
+  out=$(timeout -k 5 $((seconds + warmup + 30)) ${pns:+ip netns exec "$pns"} "$net_probe" --domain "$domain" \
         --dds-profile "$profile" --duration-s "$((seconds + warmup + 2))" --warmup-s "$warmup" \
         2>/dev/null | grep '^probe:' || echo "probe: hung")
   stop_all
