@@ -352,4 +352,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::client
 
-int main(int argc, char** argv) { return mostar::client::Run(argc, argv); }
+int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::client::Run(argc, argv)); }

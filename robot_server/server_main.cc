@@ -718,4 +718,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::server
 
-int main(int argc, char** argv) { return mostar::server::Run(argc, argv); }
+int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::server::Run(argc, argv)); }

@@ -1,9 +1,13 @@
 #include "common/dds/participant.h"
 
+#include <fastdds/rtps/transport/TCPTransportDescriptor.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "common/log/log.h"
@@ -14,6 +18,9 @@ namespace fdds = eprosima::fastdds::dds;
 namespace frtps = eprosima::fastrtps;
 
 namespace {
+
+// TCP participants created in this process and left undeleted (see EndProcess).
+std::atomic<int> g_abandoned_tcp_participants{0};
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
@@ -87,6 +94,11 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
     }
   }
   std::unique_ptr<Participant> p(new Participant(options));
+  for (const auto& transport : qos.transport().user_transports) {
+    if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPTransportDescriptor>(transport)) {
+      p->uses_tcp_ = true;
+    }
+  }
   p->participant_ = factory->create_participant(options.domain_id, qos);
   if (p->participant_ == nullptr) {
     *error = "cannot create the DDS participant (domain " + std::to_string(options.domain_id) +
@@ -107,7 +119,17 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
 Participant::~Participant() {
   if (participant_ == nullptr) return;
   participant_->delete_contained_entities();
+  if (uses_tcp_) {
+    ++g_abandoned_tcp_participants;  // see EndProcess
+    return;
+  }
   fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+int EndProcess(int code) {
+  if (g_abandoned_tcp_participants.load() == 0) return code;
+  std::fflush(nullptr);
+  std::_Exit(code);
 }
 
 fdds::Topic* Participant::GetTopic(const std::string& name, fdds::TypeSupport type,

@@ -7,7 +7,8 @@
 //   a path ending in ".xml": a Fast DDS XML profiles file; the participant profile named
 //       `xml_participant_profile` (default: the role, "robot" or "operator") is used.
 // The domain id comes from the options; see domain.h for the flag/environment convention.
-// Teardown order is handled here: contained entities first, then the participant.
+// Teardown order is handled here: contained entities first, then the participant. A participant
+// with a TCP transport is not deleted (see EndProcess): programs end through EndProcess.
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -51,6 +52,8 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   const ParticipantOptions& options() const { return options_; }
+  // True when the participant's transports include TCPv4/TCPv6 (the WAN profiles).
+  bool uses_tcp() const { return uses_tcp_; }
 
  private:
   explicit Participant(ParticipantOptions options) : options_(std::move(options)) {}
@@ -59,8 +62,21 @@ class Participant {
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  bool uses_tcp_ = false;
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };
+
+// How a program that may have created participants ends: `int main() { return
+// dds::EndProcess(Run()); }`, after every local object has been destroyed.
+//
+// Fast DDS 2.9's TCP transport can leave a connection's receive thread running after its
+// participant is deleted; the thread then uses the freed transport when the peer next sends or
+// closes, and the process dies with SIGSEGV (seen at robot_server exit with an operator still
+// connected). So TCP participants are never deleted: their readers and writers are, and the
+// process ends here with std::_Exit(code) after flushing stdio, without static destructors
+// (Fast DDS' factory would delete the participant there). The kernel closes the sockets; peers
+// see the connection drop. Without TCP participants this just returns `code`.
+int EndProcess(int code);
 
 }  // namespace mostar::dds

@@ -189,4 +189,4 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::relay
 
-int main(int argc, char** argv) { return mostar::relay::Main(argc, argv); }
+int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::relay::Main(argc, argv)); }

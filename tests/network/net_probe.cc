@@ -230,4 +230,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::network
 
-int main(int argc, char** argv) { return mostar::network::Main(argc, argv); }
+int main(int argc, char** argv) {
+  return mostar::dds::EndProcess(mostar::network::Main(argc, argv));
+}

@@ -68,14 +68,23 @@ domain=$((100 + $$ % 100))
 ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
   --config "$work/server.pbtxt" --source test_pattern \
   --trace "$work/server.csv" > "$work/server.log" 2>&1 &
-pids+=($!)
+server_pid=$!
+pids+=("$server_pid")
 sleep 1
 set +e
 # A bounded run: a client stuck in a blocked DDS write must fail the test, not hang it.
 timeout -k 5 $((duration + 40)) ip netns exec "${prefix}_operator" xvfb-run -a "$operator_client" --headless --domain "$domain" \
   --dds-profile "$work/wan.xml" --id operator --duration "$duration" --drive 0.2,0 \
   --calibration "$src/deploy/config/calibration_sim.pbtxt" \
-  --trace "$work/client.csv" > "$work/client.log" 2>&1
+  --trace "$work/client.csv" > "$work/client.log" 2>&1 &
+client_pid=$!
+# Stop the robot while the operator is still connected: it must end cleanly and promptly (a
+# Fast DDS TCP receive thread outliving its participant used to crash it here).
+sleep $((duration - 2))
+kill -TERM "$server_pid"
+for _ in $(seq 150); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$server_pid" 2>/dev/null; then server_exit=hung; else wait "$server_pid"; server_exit=$?; fi
+wait "$client_pid"
 client_exit=$?
 set -e
 
@@ -87,10 +96,11 @@ sent=$(count command "$work/client.csv"); accepted=$(count command "$work/server
 unknown=$(comm -13 <(grep '^command,' "$work/client.csv" | cut -d, -f3 | sort -u) \
                    <(grep '^command,' "$work/server.csv" | cut -d, -f3 | sort -u) | wc -l)
 echo "netns_wan_test (emulated=$emulated, $profile): left=$left right=$right scan=$scan health=$health" \
-  "commands sent=$sent accepted=$accepted unknown=$unknown client_exit=$client_exit"
+  "commands sent=$sent accepted=$accepted unknown=$unknown client_exit=$client_exit server_exit=$server_exit"
 failures=0
 check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
 check "operator_client exited cleanly" '[ "$client_exit" = 0 ]'
+check "robot_server stopped cleanly with the operator connected (exit $server_exit)" '[ "$server_exit" = 0 ]'
 check "left frames arrived" '[ "$left" -ge 20 ]'
 check "right frames arrived" '[ "$right" -ge 20 ]'
 check "scans arrived" '[ "$scan" -ge 10 ]'
