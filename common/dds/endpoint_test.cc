@@ -1,10 +1,17 @@
 // Real DDS participants on loopback, in one process, on a per-process domain id.
 #include "common/dds/endpoint.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <thread>
 
 #include "common/dds/conversions.h"
@@ -52,6 +59,58 @@ TEST(ParticipantTest, RejectsBadOptions) {
   options.profile = "/nonexistent/profiles.xml";
   EXPECT_EQ(Participant::Create(options, &error), nullptr);
   EXPECT_NE(error.find("cannot load"), std::string::npos);
+}
+
+// A TCP profile whose listening port is already taken must fail at creation (Fast DDS alone would
+// log an error and run unreachable); once the port is free the same profile works.
+TEST(ParticipantTest, RefusesATakenTcpListeningPort) {
+  const int holder = ::socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(holder, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  address.sin_port = 0;  // any free port
+  ASSERT_EQ(::bind(holder, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
+  ASSERT_EQ(::listen(holder, 1), 0);
+  socklen_t length = sizeof(address);
+  ASSERT_EQ(::getsockname(holder, reinterpret_cast<sockaddr*>(&address), &length), 0);
+  const int port = ntohs(address.sin_port);
+
+  char dir[] = "/tmp/mostar_tcp_port_XXXXXX";
+  ASSERT_NE(::mkdtemp(dir), nullptr);
+  const std::string xml = std::string(dir) + "/tcp.xml";
+  {
+    std::ofstream out(xml);
+    out << R"(<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>
+  <transport_descriptors><transport_descriptor>
+    <transport_id>tcp_server</transport_id><type>TCPv4</type>
+    <interfaceWhiteList><address>127.0.0.1</address></interfaceWhiteList>
+    <listening_ports><port>)"
+        << port << R"(</port></listening_ports>
+  </transport_descriptor></transport_descriptors>
+  <participant profile_name="tcp_robot"><rtps>
+    <useBuiltinTransports>false</useBuiltinTransports>
+    <userTransports><transport_id>tcp_server</transport_id></userTransports>
+  </rtps></participant>
+</profiles></dds>
+)";
+  }
+  ParticipantOptions options;
+  options.domain_id = PerProcessDomainId();
+  options.profile = xml;
+  options.xml_participant_profile = "tcp_robot";
+  std::string error;
+  EXPECT_EQ(Participant::Create(options, &error), nullptr);
+  EXPECT_NE(error.find("TCP port " + std::to_string(port)), std::string::npos) << error;
+
+  ::close(holder);
+  error.clear();
+  auto participant = Participant::Create(options, &error);
+  ASSERT_NE(participant, nullptr) << error;
+  EXPECT_TRUE(participant->uses_tcp());
+  std::remove(xml.c_str());
+  ::rmdir(dir);
 }
 
 TEST(EndpointTest, ScanFlowsBetweenParticipants) {

@@ -1,13 +1,19 @@
 #include "common/dds/participant.h"
 
-#include <fastdds/rtps/transport/TCPTransportDescriptor.h>
+#include <arpa/inet.h>
+#include <fastdds/rtps/transport/TCPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "common/log/log.h"
@@ -25,6 +31,38 @@ std::atomic<int> g_abandoned_tcp_participants{0};
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Fast DDS only logs an error when a TCP listening port is taken (another robot_server, a
+// relay) and then runs unreachable; refuse to start instead. Binds each TCPv4 listening port on
+// every address the way Fast DDS' acceptor does (SO_REUSEADDR, so only a listener conflicts).
+bool TcpListeningPortsFree(const fdds::DomainParticipantQos& qos, std::string* error) {
+  for (const auto& transport : qos.transport().user_transports) {
+    auto tcp =
+        std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPv4TransportDescriptor>(transport);
+    if (!tcp) continue;
+    for (uint16_t port : tcp->listening_ports) {
+      if (port == 0) continue;
+      const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+      if (fd < 0) continue;
+      const int one = 1;
+      ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
+      sockaddr_in address{};
+      address.sin_family = AF_INET;
+      address.sin_port = htons(port);
+      address.sin_addr.s_addr = htonl(INADDR_ANY);
+      const bool bound = ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
+                         ::listen(fd, 1) == 0;
+      const int bind_errno = errno;
+      ::close(fd);
+      if (!bound) {
+        *error = "TCP port " + std::to_string(port) + " cannot be listened on (" +
+                 std::strerror(bind_errno) + "): another robot_server or relay may be using it";
+        return false;
+      }
+    }
+  }
+  return true;
 }
 
 // Loopback-only participant QoS: see the header.
@@ -93,6 +131,7 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
       return nullptr;
     }
   }
+  if (!TcpListeningPortsFree(qos, error)) return nullptr;
   std::unique_ptr<Participant> p(new Participant(options));
   for (const auto& transport : qos.transport().user_transports) {
     if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPTransportDescriptor>(transport)) {
