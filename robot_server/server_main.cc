@@ -363,6 +363,20 @@ int RunReplay(const std::string& path, double rate, bool loop, bool start_paused
   return 0;
 }
 
+// The robot's DDS side as a health device: video ack-clock and outbox counters.
+DeviceHealth NetworkHealth(const RobotNode& node, const dds::Participant& participant) {
+  DeviceHealth network;
+  network.name = "network";
+  network.counters = {
+      {"video_pairs_sent", node.pairs_sent()},
+      {"video_pairs_skipped", node.pairs_skipped()},
+      {"video_lanes_reclaimed", node.lanes_reclaimed()},
+      {"outbox_dropped", node.outbox_dropped()},
+      {"frame_subscribers", static_cast<uint64_t>(node.frame_subscribers())},
+      {"tcp_sockets_guarded", static_cast<uint64_t>(participant.tcp_sockets_guarded())}};
+  return network;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{
       "robot_server: publishes the robot's stereo frames, laser scans, odometry and "
@@ -466,6 +480,7 @@ int Run(int argc, char** argv) {
         domain >= 0 ? domain : dds::DomainIdFromEnvironment(config.dds().domain_id());
     replay_dds.profile = dds_profile.empty() ? config.dds().profile() : dds_profile;
     replay_dds.name = "robot";
+    replay_dds.tcp_user_timeout_ms = config.dds().tcp_user_timeout_ms();
     auto replay_participant = dds::Participant::Create(replay_dds, &error);
     if (!replay_participant) {
       std::cerr << "robot_server: " << error << "\n";
@@ -494,6 +509,7 @@ int Run(int argc, char** argv) {
       domain >= 0 ? domain : dds::DomainIdFromEnvironment(config.dds().domain_id());
   dds_options.profile = dds_profile.empty() ? config.dds().profile() : dds_profile;
   dds_options.name = "robot";
+  dds_options.tcp_user_timeout_ms = config.dds().tcp_user_timeout_ms();
   auto participant = dds::Participant::Create(dds_options, &error);
   if (!participant) {
     std::cerr << "robot_server: " << error << "\n";
@@ -545,8 +561,10 @@ int Run(int argc, char** argv) {
                      << request.sender_id << ": " << drive::LeaseDecisionName(decision)
                      << "; holder now '" << lease.holder() << "'";
   };
-  node = RobotNode::Create(participant.get(), callbacks, clock, &error,
-                           config.dds().video_window_pairs());
+  RobotNode::VideoOptions video;
+  video.window_pairs = config.dds().video_window_pairs();
+  video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());
+  node = RobotNode::Create(participant.get(), callbacks, clock, &error, video);
   if (!node) {
     std::cerr << "robot_server: " << error << "\n";
     return 1;
@@ -690,6 +708,7 @@ int Run(int argc, char** argv) {
         drive_health.counters.emplace_back("collisions", sim_state.collision_count);
       }
       health.devices.push_back(drive_health);
+      health.devices.push_back(NetworkHealth(*node, *participant));
       node->PublishHealth(health);
       if (rec) rec->Write(health);
     }

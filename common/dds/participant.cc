@@ -105,6 +105,10 @@ bool ParticipantOptions::IsValid(std::string* error) const {
     *error = "DDS profile '" + profile + "' is neither 'loopback' nor an .xml file";
     return false;
   }
+  if (tcp_user_timeout_ms < 0 || tcp_user_timeout_ms > 600000) {
+    *error = "TCP user timeout must be in [0, 600000] ms";
+    return false;
+  }
   if (shm_segment_bytes < (1u << 20)) {
     *error = "shared-memory segment must be at least 1 MiB";
     return false;
@@ -143,6 +147,10 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
     *error = "cannot create the DDS participant (domain " + std::to_string(options.domain_id) +
              ", profile " + options.profile + ")";
     return nullptr;
+  }
+  if (p->uses_tcp_ && options.tcp_user_timeout_ms > 0) {
+    p->tcp_guard_ = std::make_unique<TcpUserTimeoutGuard>(options.tcp_user_timeout_ms,
+                                                          std::chrono::milliseconds(200));
   }
   p->publisher_ = p->participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   p->subscriber_ = p->participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);

@@ -21,6 +21,8 @@
 #include <mutex>
 #include <string>
 
+#include "common/dds/tcp_user_timeout.h"
+
 namespace mostar::dds {
 
 struct ParticipantOptions {
@@ -30,6 +32,11 @@ struct ParticipantOptions {
   std::string name = "mostar";          // participant name, e.g. "robot" or "operator"
   // Shared-memory segment size for the loopback profile; must hold a few JPEG frames.
   uint32_t shm_segment_bytes = 8u << 20;
+  // With a TCP transport: TCP_USER_TIMEOUT for the process's TCP sockets, so that a peer that
+  // stopped reading or vanished blocks sends for at most this long (tcp_user_timeout.h);
+  // 0 leaves the kernel default (about 15 minutes).
+  int tcp_user_timeout_ms = kDefaultTcpUserTimeoutMs;
+  static constexpr int kDefaultTcpUserTimeoutMs = 4000;
 
   bool IsValid(std::string* error) const;
 };
@@ -54,6 +61,8 @@ class Participant {
   const ParticipantOptions& options() const { return options_; }
   // True when the participant's transports include TCPv4/TCPv6 (the WAN profiles).
   bool uses_tcp() const { return uses_tcp_; }
+  // TCP sockets given TCP_USER_TIMEOUT so far (0 without a TCP transport).
+  int tcp_sockets_guarded() const { return tcp_guard_ ? tcp_guard_->sockets_set() : 0; }
 
  private:
   explicit Participant(ParticipantOptions options) : options_(std::move(options)) {}
@@ -63,6 +72,7 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   bool uses_tcp_ = false;
+  std::unique_ptr<TcpUserTimeoutGuard> tcp_guard_;  // TCP participants only
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };

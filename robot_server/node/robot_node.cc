@@ -21,17 +21,22 @@ bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
 
 std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Callbacks callbacks,
                                              const Clock* clock, std::string* error,
-                                             int video_window_pairs) {
-  if (video_window_pairs < 1) {
+                                             VideoOptions video) {
+  if (video.window_pairs < 1) {
     if (error) *error = "the video window must be at least one pair";
+    return nullptr;
+  }
+  if (video.lane_timeout <= Duration::zero()) {
+    if (error) *error = "the video lane timeout must be positive";
     return nullptr;
   }
   std::unique_ptr<RobotNode> node(new RobotNode());
   node->clock_ = clock;
   node->callbacks_ = std::move(callbacks);
+  node->lane_timeout_ = video.lane_timeout;
   RobotNode* self = node.get();
   auto& p = *participant;
-  for (int i = 0; i < video_window_pairs; ++i) {
+  for (int i = 0; i < video.window_pairs; ++i) {
     VideoLane lane;
     lane.left = std::make_unique<ImageWriter>(p, topics::kCameraLeft, Stream::kVideo);
     lane.right = std::make_unique<ImageWriter>(p, topics::kCameraRight, Stream::kVideo);
@@ -114,15 +119,34 @@ std::optional<Duration> RobotNode::RobotMinusClient(const std::string& client_id
 }
 
 bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
+  const SteadyTime now = clock_->SteadyNow();
+  VideoLane* chosen = nullptr;
   for (VideoLane& lane : lanes_) {
-    if (!lane.left->AllAcknowledged() || !lane.right->AllAcknowledged()) continue;
-    const bool left_ok = lane.left->Write(dds::ToIdl(pair.left));
-    const bool right_ok = lane.right->Write(dds::ToIdl(pair.right));
-    if (left_ok && right_ok) ++pairs_sent_;
-    return left_ok && right_ok;
+    if (lane.left->AllAcknowledged() && lane.right->AllAcknowledged()) {
+      chosen = &lane;
+      break;
+    }
   }
-  ++pairs_skipped_;  // every lane busy: the link is full, skip rather than queue
-  return false;
+  if (chosen == nullptr) {
+    // Every lane busy. Reclaim the oldest one if a reader has sat on it for lane_timeout.
+    VideoLane* oldest = &lanes_.front();
+    for (VideoLane& lane : lanes_) {
+      if (!lane.written || (oldest->written && *lane.written < *oldest->written)) oldest = &lane;
+    }
+    if (oldest->written && now - *oldest->written >= lane_timeout_) {
+      chosen = oldest;
+      ++lanes_reclaimed_;
+    }
+  }
+  if (chosen == nullptr) {
+    ++pairs_skipped_;  // the link is full: skip rather than queue
+    return false;
+  }
+  chosen->written = now;
+  const bool left_ok = chosen->left->Write(dds::ToIdl(pair.left));
+  const bool right_ok = chosen->right->Write(dds::ToIdl(pair.right));
+  if (left_ok && right_ok) ++pairs_sent_;
+  return left_ok && right_ok;
 }
 
 void RobotNode::PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) {

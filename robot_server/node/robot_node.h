@@ -30,6 +30,15 @@
 
 namespace mostar::server {
 
+// The robot's video ack-clock (see RobotNode::PublishStereo).
+struct RobotVideoOptions {
+  // Stereo pairs that may be in flight unacknowledged: that many writer pairs ("lanes") per
+  // camera topic; >= 1.
+  int window_pairs = 4;
+  // A lane whose pair some reader has not acknowledged for this long is used again; > 0.
+  Duration lane_timeout = std::chrono::milliseconds(2000);
+};
+
 class RobotNode {
  public:
   struct Callbacks {
@@ -40,23 +49,25 @@ class RobotNode {
     std::function<void(int alive_writers)> on_command_writers;
   };
 
-  // Default number of stereo pairs that may be in flight unacknowledged (see PublishStereo).
-  static constexpr int kDefaultVideoWindowPairs = 4;
-
-  // Creates every endpoint; null with `error` when one cannot be created. `video_window_pairs`
-  // (>= 1) is the ack-clock window: that many writer pairs ("lanes") per camera topic.
+  using VideoOptions = RobotVideoOptions;
+  // Creates every endpoint; null with `error` when one cannot be created or `video` is invalid.
   static std::unique_ptr<RobotNode> Create(dds::Participant* participant, Callbacks callbacks,
                                            const Clock* clock, std::string* error,
-                                           int video_window_pairs = kDefaultVideoWindowPairs);
-
+                                           VideoOptions video = {});
   // Both eyes; false when the pair was not sent: skipped at the source because every lane still
   // has an unacknowledged pair (ack-clock with a window), or refused by DDS.
   //
-  // Ack-clock with a window: each camera topic has `video_window_pairs` reliable keep-last-1
-  // writers. A pair goes out on a lane whose previous pair every reliable reader acknowledged,
-  // so at most that many pairs are in flight: enough to fill a long link (one pair in flight
-  // caps the rate near 1 / round trip), never an unbounded queue. With no free lane the pair
-  // is skipped at the source and the bitrate control lowers the quality.
+  // Ack-clock with a window: each camera topic has `window_pairs` reliable keep-last-1 writers.
+  // A pair goes out on a lane whose previous pair every reliable reader acknowledged, so at
+  // most that many pairs are in flight: enough to fill a long link (one pair in flight caps
+  // the rate near 1 / round trip), never an unbounded queue. With no free lane the pair is
+  // skipped at the source and the bitrate control lowers the quality.
+  //
+  // One reader that stops acknowledging (a frozen observer, a vanished link: DDS keeps it
+  // matched until its participant lease expires) would hold every lane and starve everyone
+  // else; so a lane left unacknowledged for `lane_timeout` is written again (keep-last-1: the
+  // stuck reader skips to the newer pair). Such a reader is then offered at most
+  // window_pairs / lane_timeout pairs per second.
   bool PublishStereo(const CompressedStereoPair& pair);
   // Intrinsics of one eye (transient local: late joiners get them at once).
   void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info);
@@ -87,6 +98,8 @@ class RobotNode {
   // Pairs written and pairs skipped because no lane was free.
   uint64_t pairs_sent() const { return pairs_sent_.load(); }
   uint64_t pairs_skipped() const { return pairs_skipped_.load(); }
+  // Pairs written on a lane that a reader had left unacknowledged for lane_timeout.
+  uint64_t lanes_reclaimed() const { return lanes_reclaimed_.load(); }
   int command_writers() const { return command_->matched(); }
 
  private:
@@ -105,10 +118,13 @@ class RobotNode {
   struct VideoLane {
     std::unique_ptr<ImageWriter> left;
     std::unique_ptr<ImageWriter> right;
+    std::optional<SteadyTime> written;  // when the lane's pair was written (none yet: free)
   };
+  Duration lane_timeout_{};
   std::vector<VideoLane> lanes_;  // >= 1; lane 0 also carries single images (replay)
   std::atomic<uint64_t> pairs_sent_{0};
   std::atomic<uint64_t> pairs_skipped_{0};
+  std::atomic<uint64_t> lanes_reclaimed_{0};
   std::mutex outbox_mutex_;
   std::condition_variable outbox_cv_;
   std::deque<std::function<void()>> outbox_;  // DDS writes waiting for the publisher thread

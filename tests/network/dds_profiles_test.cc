@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "common/dds/participant.h"
+
 namespace mostar::network {
 namespace {
 
@@ -45,6 +47,17 @@ std::vector<std::shared_ptr<Descriptor>> Transports(const fdds::DomainParticipan
 }
 
 double Seconds(const frtps::Duration_t& d) { return d.seconds + d.nanosec * 1e-9; }
+
+// WAN participants are dropped after a short silence: shorter than the robot's TCP user timeout,
+// so that a peer whose connection the kernel dropped is forgotten and discovered afresh (Fast DDS
+// 2.9 does not recover a TCP participant that outlives its connection), and long enough for two
+// announcements to be missed.
+void ExpectWanLease(const fdds::DomainParticipantQos& qos, const std::string& what) {
+  const auto& discovery = qos.wire_protocol().builtin.discovery_config;
+  const double lease_s = Seconds(discovery.leaseDuration);
+  EXPECT_LT(lease_s, mostar::dds::ParticipantOptions::kDefaultTcpUserTimeoutMs / 1000.0) << what;
+  EXPECT_GE(lease_s, 3 * Seconds(discovery.leaseDuration_announcementperiod)) << what;
+}
 
 // Fast DDS keeps loaded profiles in one process-wide registry and refuses a second profile of
 // the same name, so the shipped files (which all define "robot" and "operator") cannot be
@@ -111,6 +124,9 @@ void CheckWan() {
       Seconds(robot.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod),
       1.0);
 
+  for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
+    ExpectWanLease(Load("wan.xml", name), std::string("wan.xml ") + name);
+  }
   for (const char* name : {"operator", "relay"}) {
     const auto client = Load("wan.xml", name);
     const auto tcp = Transports<TCPv4TransportDescriptor>(client);
@@ -135,6 +151,7 @@ void CheckWan() {
 
 void CheckWanViaRelay() {
   const auto qos = Load("wan_via_relay.xml", "operator");
+  ExpectWanLease(qos, "wan_via_relay.xml operator");
   const auto& peers = qos.wire_protocol().builtin.initialPeersList;
   ASSERT_EQ(peers.size(), 1u);
   EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "198.51.100.20");
@@ -160,6 +177,7 @@ void CheckDiscoveryServer() {
 void CheckWanUdp() {
   for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
     const auto qos = Load("wan_udp.xml", name);
+    ExpectWanLease(qos, std::string("wan_udp.xml ") + name);
     EXPECT_FALSE(qos.transport().use_builtin_transports) << name;
     const auto udp = Transports<UDPv4TransportDescriptor>(qos);
     ASSERT_EQ(udp.size(), 1u) << name;

@@ -11,24 +11,10 @@
 set -euo pipefail
 [ $# -eq 3 ] || { echo "usage: discovery_server_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR" >&2; exit 2; }
 robot_server=$1; net_probe=$2; src=$3
-here=$(cd "$(dirname "$0")" && pwd)
-"$here/netns.sh" check || exit 77
+# shellcheck source=lib.sh
+source "$(cd "$(dirname "$0")" && pwd)/lib.sh"
 command -v fastdds >/dev/null || { echo "discovery_server_test: fastdds (fastdds-tools) is missing"; exit 77; }
-
-prefix="mds$$"
-work=$(mktemp -d /tmp/mostar_ds_XXXXXX)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  sleep 1
-  pkill -9 -f "$work" 2>/dev/null || true
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-  "$here/netns.sh" down "$prefix" || true
-  if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-trap "exit 1" INT TERM
-"$here/netns.sh" up "$prefix"
+net_setup ds
 server_ip=10.231.0.1
 sed -e "s/192\.0\.2\.10/$server_ip/g" -e "/<userTransports>/,/<\/userTransports>/{/shm_frames/d}" \
   "$src/deploy/dds/discovery_server.xml" > "$work/ds.xml"
@@ -55,8 +41,6 @@ with=$(probe with_server)
 echo "without server: $without"
 echo "with server:    $with"
 
-failures=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
 check "no frames without the discovery server" '[ "$(field "$without" left)" = 0 ]'
 check "left frames through the discovery server" '[ "$(field "$with" left)" -ge 20 ]'
 check "right frames through the discovery server" '[ "$(field "$with" right)" -ge 20 ]'

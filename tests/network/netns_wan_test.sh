@@ -19,26 +19,10 @@ for option in "${@:5}"; do
     *) echo "netns_wan_test: unknown option $option" >&2; exit 2 ;;
   esac
 done
-here=$(cd "$(dirname "$0")" && pwd)
-"$here/netns.sh" check || exit 77
+# shellcheck source=lib.sh
+source "$(cd "$(dirname "$0")" && pwd)/lib.sh"
 command -v xvfb-run >/dev/null || { echo "netns_wan_test: xvfb-run is missing"; exit 77; }
-
-prefix="mwan$$"
-work=$(mktemp -d /tmp/mostar_wan_XXXXXX)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  sleep 1
-  # Anything still running from this test (grandchildren under xvfb-run or ip netns exec
-  # included) would keep CTest waiting on its output: kill it by its work directory.
-  pkill -9 -f "$work" 2>/dev/null || true
-  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-  "$here/netns.sh" down "$prefix" || true
-  if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
-}
-trap cleanup EXIT
-trap "exit 1" INT TERM
-"$here/netns.sh" up "$prefix"
+net_setup wan
 robot_ip=10.231.0.1
 duration=10
 if [ "$emulated" = 1 ]; then
@@ -97,8 +81,6 @@ unknown=$(comm -13 <(grep '^command,' "$work/client.csv" | cut -d, -f3 | sort -u
                    <(grep '^command,' "$work/server.csv" | cut -d, -f3 | sort -u) | wc -l)
 echo "netns_wan_test (emulated=$emulated, $profile): left=$left right=$right scan=$scan health=$health" \
   "commands sent=$sent accepted=$accepted unknown=$unknown client_exit=$client_exit server_exit=$server_exit"
-failures=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
 check "operator_client exited cleanly" '[ "$client_exit" = 0 ]'
 check "robot_server stopped cleanly with the operator connected (exit $server_exit)" '[ "$server_exit" = 0 ]'
 check "left frames arrived" '[ "$left" -ge 20 ]'

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# One observer that stops reading must not stop the others (WAN TCP profile). robot_server in
+# the robot namespace; observers A and B (net_probe) in the operator namespace dial it over
+# deploy/dds/wan.xml. B is frozen (SIGSTOP: its connection stays open, its window closes) for
+# FREEZE_S seconds, then resumed. Fast DDS 2.9 sends over TCP with a blocking write, so before
+# the robot bounded that with TCP_USER_TIMEOUT and reclaimed video lanes B never acknowledged,
+# A received nothing at all for the whole freeze.
+#
+# Checks: A's scans never pause for longer than the robot's TCP user timeout plus slack; A
+# receives video again while B is still frozen; B receives again after it is resumed; the
+# robot stops cleanly.
+#
+# Usage: stuck_observer_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR
+# Exit 77 (CTest: skipped) when network namespaces cannot be created.
+set -euo pipefail
+[ $# -eq 3 ] || { echo "usage: stuck_observer_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR" >&2; exit 2; }
+robot_server=$1; net_probe=$2; src=$3
+# shellcheck source=lib.sh
+source "$(cd "$(dirname "$0")" && pwd)/lib.sh"
+net_setup stuck
+freeze_after_s=5; freeze_s=${FREEZE_S:-12}; run_s=$((freeze_after_s + freeze_s + 9))
+robot_ip=10.231.0.1
+sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
+sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" "$src/deploy/config/server_sim.pbtxt" \
+  > "$work/server.pbtxt"
+user_timeout_ms=$(sed -n 's/.*tcp_user_timeout_ms: *\([0-9]*\).*/\1/p' "$work/server.pbtxt")
+user_timeout_ms=${user_timeout_ms:-4000}  # the default of server_config.proto
+domain=$((100 + $$ % 100))
+
+ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
+  --config "$work/server.pbtxt" --source test_pattern > "$work/server.log" 2>&1 &
+server_pid=$!; pids+=("$server_pid")
+sleep 1
+for who in a b; do
+  timeout $((run_s + 30)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
+    --dds-profile "$work/wan.xml" --id "observer_$who" --duration-s "$run_s" --no-ping \
+    --samples "$work/$who.csv" > "$work/$who.out" 2>&1 &
+  pids+=($!)
+done
+probe_a=${pids[1]}; probe_b=${pids[2]}
+sleep "$freeze_after_s"
+pkill -STOP -f -- "--id observer_b" || true
+frozen_ns=$(date +%s%N)
+sleep "$freeze_s"
+resumed_ns=$(date +%s%N)
+pkill -CONT -f -- "--id observer_b" || true
+set +e
+wait "$probe_a"; wait "$probe_b"
+kill -TERM "$server_pid"
+for _ in $(seq 150); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$server_pid" 2>/dev/null; then server_exit=hung; else wait "$server_pid"; server_exit=$?; fi
+set -e
+
+# Samples: topic,receive_ns,stamp_ns. Prints: longest gap between A's scans from the freeze on
+# (s), A's left frames in the second half of the freeze, B's left frames from 4 s after resuming.
+read -r scan_gap_s a_late b_after < <(python3 - "$work" "$frozen_ns" "$resumed_ns" <<'PY'
+import sys
+work, frozen, resumed = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+def samples(who, topic):
+    out = []
+    for line in open(f"{work}/{who}.csv"):
+        parts = line.strip().split(",")
+        if len(parts) == 3 and parts[0] == topic:
+            out.append(int(parts[1]))
+    return sorted(out)
+scans = [t for t in samples("a", "scan") if t >= frozen - 1_000_000_000]
+edges = [frozen] + scans + [resumed]
+gap = max(b - a for a, b in zip(edges, edges[1:]) if a >= frozen or b >= frozen) / 1e9
+middle = frozen + (resumed - frozen) // 2
+a_late = sum(1 for t in samples("a", "left") if middle <= t < resumed)
+b_after = sum(1 for t in samples("b", "left") if t >= resumed + 4_000_000_000)
+print(f"{gap:.2f} {a_late} {b_after}")
+PY
+)
+echo "stuck_observer_test: freeze ${freeze_s} s, tcp_user_timeout ${user_timeout_ms} ms:" \
+  "A's longest scan gap ${scan_gap_s} s, A's left frames in the freeze's second half ${a_late}," \
+  "B's left frames from 4 s after resuming ${b_after}, robot exit ${server_exit}"
+grep '^probe:' "$work/a.out" | sed 's/^/A /' || true
+grep '^probe:' "$work/b.out" | sed 's/^/B /' || true
+limit_s=$(python3 -c "print($user_timeout_ms / 1000 + 3)")
+check "A's scans pause at most the TCP user timeout + 3 s ($limit_s s)" \
+  "python3 -c 'import sys; sys.exit(0 if $scan_gap_s <= $limit_s else 1)'"
+check "A receives video while B is still frozen (>= 10 left frames)" '[ "$a_late" -ge 10 ]'
+check "B receives video again after it is resumed (>= 10 left frames)" '[ "$b_after" -ge 10 ]'
+check "robot_server stopped cleanly (exit $server_exit)" '[ "$server_exit" = 0 ]'
+if [ "$failures" -ne 0 ]; then
+  echo "--- server log"; tail -20 "$work/server.log"; exit 1
+fi
+echo "stuck_observer_test: all checks passed"
