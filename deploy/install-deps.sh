@@ -11,6 +11,8 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   # sensors, maths, vision, config
   libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev
+  # service manager readiness and watchdog (sd_notify)
+  libsystemd-dev
   libprotobuf-dev protobuf-compiler libcli11-dev
   # client UI
   libglfw3-dev libimgui-dev libgl-dev libgl1-mesa-dri

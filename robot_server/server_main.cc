@@ -23,6 +23,7 @@
 #include "common/record/recording_reader.h"
 #include "common/record/recording_writer.h"
 #include "common/record/replay_player.h"
+#include "common/service/service_notifier.h"
 #include "common/time/rate_meter.h"
 #include "robot_server/camera/camera_factory.h"
 #include "robot_server/camera/camera_intrinsics.h"
@@ -629,7 +630,10 @@ int Run(int argc, char** argv) {
   MOSTAR_LOG(INFO) << "robot_server '" << config.robot_id() << "' running on DDS domain "
                    << dds_options.domain_id << " (" << dds_options.profile << "), source "
                    << ServerConfig::Source_Name(config.source());
+  service::ServiceNotifier service;
+  service.Ready("running on DDS domain " + std::to_string(dds_options.domain_id));
   const SteadyTime start = clock->SteadyNow();
+  const Duration write_stall_limit = FromSeconds(config.dds().write_stall_exit_s());
   const Duration control_period = settings.control_period;
   const Duration health_period = FromSeconds(config.health_period_s());
   const Duration lease_period = FromSeconds(config.lease_period_s());
@@ -642,6 +646,7 @@ int Run(int argc, char** argv) {
   while (!g_stop) {
     next_cycle += control_period;
     const SteadyTime now = clock->SteadyNow();
+    service.Alive(now);  // systemd's watchdog: restarts robot_server if this loop stalls
     // A holder that went silent loses the lease: nobody inherits motion.
     const std::string holder = lease.holder();
     if (!holder.empty()) {
@@ -654,6 +659,19 @@ int Run(int argc, char** argv) {
         lease_changed = true;
         MOSTAR_LOG(WARNING) << "pilot '" << holder << "' went silent: lease released";
       }
+    }
+    if (write_stall_limit > Duration::zero() &&
+        node->BlockedWriteDuration(now) > write_stall_limit) {
+      MOSTAR_LOG(ERROR) << "a DDS write has been blocked for more than "
+                        << config.dds().write_stall_exit_s()
+                        << " s (DDS deadlock?): stopping the robot and exiting with status 3 so "
+                           "that the service manager restarts robot_server";
+      motors->Stop(&error);
+      trace.Flush();
+      recorder_ptr = nullptr;
+      if (recorder) recorder->Close(&error);
+      std::fflush(nullptr);
+      std::_Exit(3);  // orderly teardown would wait on the blocked write
     }
     const drive::GovernorOutput out = governor.Update();
     trace.Add("drive_out_mmps", clock->Now(),
@@ -717,6 +735,7 @@ int Run(int argc, char** argv) {
   }
   g_stop = true;
   MOSTAR_LOG(INFO) << "robot_server stopping";
+  service.Stopping("stopping");
   motors->Stop(&error);
   if (pattern_scan_thread.joinable()) pattern_scan_thread.join();
   if (devices.scanner != nullptr) devices.scanner->Stop();

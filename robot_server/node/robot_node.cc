@@ -1,5 +1,7 @@
 #include "robot_server/node/robot_node.h"
 
+#include <algorithm>
+
 #include "common/dds/conversions.h"
 #include "common/dds/topics.h"
 
@@ -143,8 +145,10 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
     return false;
   }
   chosen->written = now;
+  video_write_since_ns_ = now.time_since_epoch().count();
   const bool left_ok = chosen->left->Write(dds::ToIdl(pair.left));
   const bool right_ok = chosen->right->Write(dds::ToIdl(pair.right));
+  video_write_since_ns_ = 0;
   if (left_ok && right_ok) ++pairs_sent_;
   return left_ok && right_ok;
 }
@@ -192,11 +196,22 @@ void RobotNode::PublisherLoop() {
     outbox_.pop_front();
     writing_ = true;
     lock.unlock();
+    outbox_write_since_ns_ = clock_->SteadyNow().time_since_epoch().count();
     write();  // may block while a link is down; callers keep posting meanwhile
+    outbox_write_since_ns_ = 0;
     lock.lock();
     writing_ = false;
     outbox_cv_.notify_all();
   }
+}
+
+Duration RobotNode::BlockedWriteDuration(SteadyTime now) const {
+  Duration longest = Duration::zero();
+  for (int64_t since : {outbox_write_since_ns_.load(), video_write_since_ns_.load()}) {
+    if (since == 0) continue;
+    longest = std::max(longest, now - SteadyTime(std::chrono::nanoseconds(since)));
+  }
+  return longest;
 }
 
 bool RobotNode::FlushOutbox(Duration timeout) {

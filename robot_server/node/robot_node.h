@@ -98,6 +98,10 @@ class RobotNode {
   // Pairs written and pairs skipped because no lane was free.
   uint64_t pairs_sent() const { return pairs_sent_.load(); }
   uint64_t pairs_skipped() const { return pairs_skipped_.load(); }
+  // How long the DDS write in progress (outbox or video) has been blocked at `now`; zero when
+  // no write is in progress. A write blocks while a TCP peer does not read (bounded by the TCP
+  // user timeout) and for ever in a Fast DDS deadlock: the caller decides when to give up.
+  Duration BlockedWriteDuration(SteadyTime now) const;
   // Pairs written on a lane that a reader had left unacknowledged for lane_timeout.
   uint64_t lanes_reclaimed() const { return lanes_reclaimed_.load(); }
   int command_writers() const { return command_->matched(); }
@@ -125,6 +129,9 @@ class RobotNode {
   std::atomic<uint64_t> pairs_sent_{0};
   std::atomic<uint64_t> pairs_skipped_{0};
   std::atomic<uint64_t> lanes_reclaimed_{0};
+  // Steady-clock start (ns) of the outbox / video write in progress; 0 when none.
+  std::atomic<int64_t> outbox_write_since_ns_{0};
+  std::atomic<int64_t> video_write_since_ns_{0};
   std::mutex outbox_mutex_;
   std::condition_variable outbox_cv_;
   std::deque<std::function<void()>> outbox_;  // DDS writes waiting for the publisher thread

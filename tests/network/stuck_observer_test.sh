@@ -10,11 +10,21 @@
 # receives video again while B is still frozen; B receives again after it is resumed; the
 # robot stops cleanly.
 #
-# Usage: stuck_observer_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR
+# --stall-exit: the last resort instead. The robot runs without the TCP user timeout and with
+# dds.write_stall_exit_s 3, so B's freeze blocks its DDS writes for good: it must exit with
+# status 3 (after stopping the motors, for the service manager to restart it) during the freeze
+# and say why.
+#
+# Usage: stuck_observer_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR [--stall-exit]
 # Exit 77 (CTest: skipped) when network namespaces cannot be created.
 set -euo pipefail
-[ $# -eq 3 ] || { echo "usage: stuck_observer_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR" >&2; exit 2; }
-robot_server=$1; net_probe=$2; src=$3
+[ $# -eq 3 ] || [ $# -eq 4 ] || { echo "usage: stuck_observer_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR [--stall-exit]" >&2; exit 2; }
+robot_server=$1; net_probe=$2; src=$3; stall_exit=0
+case "${4:-}" in
+  "") ;;
+  --stall-exit) stall_exit=1 ;;
+  *) echo "stuck_observer_test: unknown option $4" >&2; exit 2 ;;
+esac
 # shellcheck source=lib.sh
 source "$(cd "$(dirname "$0")" && pwd)/lib.sh"
 net_setup stuck
@@ -23,6 +33,7 @@ robot_ip=10.231.0.1
 sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
 sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" "$src/deploy/config/server_sim.pbtxt" \
   > "$work/server.pbtxt"
+[ "$stall_exit" = 0 ] || echo "dds { tcp_user_timeout_ms: 0 write_stall_exit_s: 3 }" >> "$work/server.pbtxt"
 user_timeout_ms=$(sed -n 's/.*tcp_user_timeout_ms: *\([0-9]*\).*/\1/p' "$work/server.pbtxt")
 user_timeout_ms=${user_timeout_ms:-4000}  # the default of server_config.proto
 domain=$((100 + $$ % 100))
@@ -41,6 +52,20 @@ probe_a=${pids[1]}; probe_b=${pids[2]}
 sleep "$freeze_after_s"
 pkill -STOP -f -- "--id observer_b" || true
 frozen_ns=$(date +%s%N)
+if [ "$stall_exit" = 1 ]; then
+  for _ in $(seq $((freeze_s * 10))); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
+  set +e
+  if kill -0 "$server_pid" 2>/dev/null; then server_exit=running; else wait "$server_pid"; server_exit=$?; fi
+  set -e
+  stall_s=$(python3 -c "print(round(($(date +%s%N) - $frozen_ns) / 1e9, 1))")
+  echo "stuck_observer_test --stall-exit: robot exit status $server_exit, ${stall_s} s after the freeze"
+  check "the robot exited with status 3 during the freeze" '[ "$server_exit" = 3 ]'
+  check "it said why" 'grep -q "DDS write has been blocked" "$work/server.log"'
+  pkill -CONT -f -- "--id observer_b" || true
+  [ "$failures" -eq 0 ] || { echo "--- server log"; tail -20 "$work/server.log"; exit 1; }
+  echo "stuck_observer_test --stall-exit: all checks passed"
+  exit 0
+fi
 sleep "$freeze_s"
 resumed_ns=$(date +%s%N)
 pkill -CONT -f -- "--id observer_b" || true
