@@ -4,50 +4,30 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <iterator>
 #include <thread>
 
 #include "common/log/log.h"
+#include "robot_server/serial/baud_rate.h"
 
 namespace mostar::drive {
 namespace {
 
-bool BaudRateOf(int baud, LibSerial::BaudRate* rate) {
-  switch (baud) {
-    case 9600:
-      *rate = LibSerial::BaudRate::BAUD_9600;
-      return true;
-    case 19200:
-      *rate = LibSerial::BaudRate::BAUD_19200;
-      return true;
-    case 38400:
-      *rate = LibSerial::BaudRate::BAUD_38400;
-      return true;
-    case 57600:
-      *rate = LibSerial::BaudRate::BAUD_57600;
-      return true;
-    case 115200:
-      *rate = LibSerial::BaudRate::BAUD_115200;
-      return true;
-    case 230400:
-      *rate = LibSerial::BaudRate::BAUD_230400;
-      return true;
-    case 460800:
-      *rate = LibSerial::BaudRate::BAUD_460800;
-      return true;
-    default:
-      return false;
-  }
+// Rates the motor board accepts.
+constexpr int kBoardBauds[] = {9600, 19200, 38400, 57600, 115200, 230400, 460800};
+
+bool BoardAccepts(int baud) {
+  return std::find(std::begin(kBoardBauds), std::end(kBoardBauds), baud) != std::end(kBoardBauds);
 }
 
 }  // namespace
 
 bool SerialDriveMotorsOptions::IsValid(std::string* error) const {
-  LibSerial::BaudRate rate;
   if (port.empty()) {
     *error = "port must not be empty";
     return false;
   }
-  if (!BaudRateOf(baud, &rate)) {
+  if (!BoardAccepts(baud)) {
     *error = "baud must be one of 9600, 19200, 38400, 57600, 115200, 230400, 460800";
     return false;
   }
@@ -80,8 +60,9 @@ std::unique_ptr<SerialDriveMotors> SerialDriveMotors::Open(const Clock& clock,
                                                            std::string* error) {
   if (!options.IsValid(error)) return nullptr;
   std::unique_ptr<SerialDriveMotors> motors(new SerialDriveMotors(clock, options));
-  LibSerial::BaudRate rate = LibSerial::BaudRate::BAUD_115200;
-  BaudRateOf(options.baud, &rate);
+  // IsValid admitted only board rates, which libserial all has.
+  const LibSerial::BaudRate rate =
+      serial::ToLibSerialBaudRate(options.baud).value_or(LibSerial::BaudRate::BAUD_115200);
   try {
     motors->port_.Open(options.port);
     motors->port_.SetBaudRate(rate);

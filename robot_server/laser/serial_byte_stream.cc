@@ -7,27 +7,10 @@
 #include <cstring>
 #include <exception>
 
+#include "robot_server/serial/baud_rate.h"
+
 namespace mostar::laser {
 namespace {
-
-bool ToLibSerial(int baud, LibSerial::BaudRate* out) {
-  switch (baud) {
-    case 9600:
-      *out = LibSerial::BaudRate::BAUD_9600;
-      return true;
-    case 19200:
-      *out = LibSerial::BaudRate::BAUD_19200;
-      return true;
-    case 38400:
-      *out = LibSerial::BaudRate::BAUD_38400;
-      return true;
-    case 500000:
-      *out = LibSerial::BaudRate::BAUD_500000;
-      return true;
-    default:
-      return false;
-  }
-}
 
 void SetError(std::string* error, const std::string& message) {
   if (error) *error = message;
@@ -62,13 +45,13 @@ void SerialByteStream::Close() {
 }
 
 bool SerialByteStream::ApplyBaud(std::string* error) {
-  LibSerial::BaudRate rate;
-  if (!ToLibSerial(baud_, &rate)) {
+  const auto rate = serial::ToLibSerialBaudRate(baud_);
+  if (!rate) {
     SetError(error, "unsupported baud rate " + std::to_string(baud_));
     return false;
   }
   try {
-    port_->SetBaudRate(rate);
+    port_->SetBaudRate(*rate);
     port_->SetCharacterSize(LibSerial::CharacterSize::CHAR_SIZE_8);
     port_->SetParity(LibSerial::Parity::PARITY_NONE);
     port_->SetStopBits(LibSerial::StopBits::STOP_BITS_1);
@@ -98,8 +81,7 @@ bool SerialByteStream::Reopen(std::string* error) {
 }
 
 bool SerialByteStream::SetBaudRate(int baud, std::string* error) {
-  LibSerial::BaudRate rate;
-  if (!ToLibSerial(baud, &rate)) {
+  if (!serial::ToLibSerialBaudRate(baud)) {
     SetError(error, "unsupported baud rate " + std::to_string(baud));
     return false;
   }

@@ -1,0 +1,37 @@
+#include "robot_server/serial/baud_rate.h"
+
+namespace mostar::serial {
+
+std::optional<LibSerial::BaudRate> ToLibSerialBaudRate(int baud) {
+  using LibSerial::BaudRate;
+  switch (baud) {
+    case 1200:
+      return BaudRate::BAUD_1200;
+    case 2400:
+      return BaudRate::BAUD_2400;
+    case 4800:
+      return BaudRate::BAUD_4800;
+    case 9600:
+      return BaudRate::BAUD_9600;
+    case 19200:
+      return BaudRate::BAUD_19200;
+    case 38400:
+      return BaudRate::BAUD_38400;
+    case 57600:
+      return BaudRate::BAUD_57600;
+    case 115200:
+      return BaudRate::BAUD_115200;
+    case 230400:
+      return BaudRate::BAUD_230400;
+    case 460800:
+      return BaudRate::BAUD_460800;
+    case 500000:
+      return BaudRate::BAUD_500000;
+    case 921600:
+      return BaudRate::BAUD_921600;
+    default:
+      return std::nullopt;
+  }
+}
+
+}  // namespace mostar::serial
