@@ -1,5 +1,7 @@
 #include "robot_server/drive/serial_drive_motors.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -60,49 +62,81 @@ std::unique_ptr<SerialDriveMotors> SerialDriveMotors::Open(const Clock& clock,
                                                            std::string* error) {
   if (!options.IsValid(error)) return nullptr;
   std::unique_ptr<SerialDriveMotors> motors(new SerialDriveMotors(clock, options));
-  // IsValid admitted only board rates, which libserial all has.
-  const LibSerial::BaudRate rate =
-      serial::ToLibSerialBaudRate(options.baud).value_or(LibSerial::BaudRate::BAUD_115200);
-  try {
-    motors->port_.Open(options.port);
-    motors->port_.SetBaudRate(rate);
-    motors->port_.SetCharacterSize(LibSerial::CharacterSize::CHAR_SIZE_8);
-    motors->port_.SetParity(LibSerial::Parity::PARITY_NONE);
-    motors->port_.SetStopBits(LibSerial::StopBits::STOP_BITS_1);
-    motors->port_.SetFlowControl(LibSerial::FlowControl::FLOW_CONTROL_NONE);
-  } catch (const std::exception& e) {
-    *error = "cannot open motor board port " + options.port + ": " + e.what();
-    return nullptr;
+  std::string open_error;
+  if (!motors->OpenPort(&open_error)) {
+    MOSTAR_LOG(WARNING) << "motor board: " << open_error << "; trying again every "
+                        << ToSeconds(kReopenPeriod) << " s";
   }
   motors->reader_ = std::thread([m = motors.get()] { m->ReadLoop(); });
   return motors;
 }
 
+bool SerialDriveMotors::OpenPort(std::string* error) {
+  // IsValid admitted only board rates, which libserial all has.
+  const LibSerial::BaudRate rate =
+      serial::ToLibSerialBaudRate(options_.baud).value_or(LibSerial::BaudRate::BAUD_115200);
+  std::lock_guard<std::mutex> lock(port_mutex_);
+  try {
+    port_ = std::make_unique<LibSerial::SerialPort>();
+    port_->Open(options_.port);
+    port_->SetBaudRate(rate);
+    port_->SetCharacterSize(LibSerial::CharacterSize::CHAR_SIZE_8);
+    port_->SetParity(LibSerial::Parity::PARITY_NONE);
+    port_->SetStopBits(LibSerial::StopBits::STOP_BITS_1);
+    port_->SetFlowControl(LibSerial::FlowControl::FLOW_CONTROL_NONE);
+  } catch (const std::exception& e) {
+    *error = "cannot open motor board port " + options_.port + ": " + e.what();
+    ClosePortLocked();
+    return false;
+  }
+  struct stat st {};
+  port_device_ = ::fstat(port_->GetFileDescriptor(), &st) == 0 ? st.st_rdev : 0;
+  port_open_ = true;
+  ++port_opens_;
+  return true;
+}
+
+bool SerialDriveMotors::PortStillThere() const {
+  // A USB adapter that was unplugged, or a udev link now naming another device: the path no
+  // longer leads to the device we hold open (reads on a dead tty may just time out).
+  struct stat st {};
+  return ::stat(options_.port.c_str(), &st) == 0 && st.st_rdev == port_device_;
+}
+
+void SerialDriveMotors::ClosePortLocked() {
+  port_open_ = false;
+  serial::ClosePort(&port_);
+}
+
 SerialDriveMotors::~SerialDriveMotors() {
   std::string error;
-  if (port_.IsOpen() && !Stop(&error)) {
+  if (port_open_ && !Stop(&error)) {
     MOSTAR_LOG(WARNING) << "motor board: stop on shutdown failed: " << error;
   }
   running_ = false;
   if (reader_.joinable()) reader_.join();
-  try {
-    port_.Close();
-  } catch (const std::exception&) {
-    // Closing a port that vanished: nothing left to do.
-  }
+  std::lock_guard<std::mutex> lock(port_mutex_);
+  ClosePortLocked();
 }
 
 bool SerialDriveMotors::Write(const MotorMessage& message, std::string* error) {
   const std::vector<uint8_t> frame = EncodeMessage(message);
-  try {
-    port_.Write(frame);
-    return true;
-  } catch (const std::exception& e) {
-    *error = std::string("motor board write failed: ") + e.what();
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    ++write_errors_;
-    return false;
+  {
+    std::lock_guard<std::mutex> lock(port_mutex_);
+    if (port_open_) {
+      try {
+        port_->Write(frame);
+        return true;
+      } catch (const std::exception& e) {
+        *error = std::string("motor board write failed: ") + e.what();
+      }
+    } else {
+      *error = "motor board port " + options_.port + " is not open";
+    }
   }
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  ++write_errors_;
+  return false;
 }
 
 bool SerialDriveMotors::SetWheelVelocities(const WheelVelocities& wheels, std::string* error) {
@@ -197,20 +231,48 @@ void SerialDriveMotors::HandleMessage(const MotorMessage& message) {
 void SerialDriveMotors::ReadLoop() {
   MotorFrameDecoder decoder;
   LibSerial::DataBuffer buffer;
+  SteadyTime last_attempt = clock_.SteadyNow();
   while (running_) {
+    if (!port_open_) {
+      // Missing at start or vanished (USB unplugged): try again every kReopenPeriod.
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      if (clock_.SteadyNow() - last_attempt < kReopenPeriod) continue;
+      last_attempt = clock_.SteadyNow();
+      std::string error;
+      if (OpenPort(&error)) {
+        MOSTAR_LOG(INFO) << "motor board: port " << options_.port << " open";
+        decoder = MotorFrameDecoder();
+      } else {
+        MOSTAR_LOG_EVERY_SEC(WARNING, 30) << "motor board: " << error;
+      }
+      continue;
+    }
+    if (clock_.SteadyNow() - last_attempt >= kReopenPeriod) {
+      last_attempt = clock_.SteadyNow();
+      if (!PortStillThere()) {
+        MOSTAR_LOG(ERROR) << "motor board: port " << options_.port
+                          << " vanished or now names another device; reopening";
+        std::lock_guard<std::mutex> lock(port_mutex_);
+        ClosePortLocked();
+        continue;
+      }
+    }
     buffer.clear();
     try {
-      port_.Read(buffer, 1, 20);  // wait up to 20 ms for the first byte
-      while (buffer.size() < 4096 && port_.IsDataAvailable()) {
+      port_->Read(buffer, 1, 20);  // wait up to 20 ms for the first byte
+      while (buffer.size() < 4096 && port_->IsDataAvailable()) {
         unsigned char byte = 0;
-        port_.ReadByte(byte, 1);
+        port_->ReadByte(byte, 1);
         buffer.push_back(byte);
       }
     } catch (const LibSerial::ReadTimeout&) {
       // Nothing within 20 ms: check `running_` and wait again.
     } catch (const std::exception& e) {
-      MOSTAR_LOG_EVERY_SEC(ERROR, 5) << "motor board read failed: " << e.what();
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // no busy loop on a dead port
+      MOSTAR_LOG(ERROR) << "motor board read failed: " << e.what() << "; reopening "
+                        << options_.port;
+      std::lock_guard<std::mutex> lock(port_mutex_);
+      ClosePortLocked();
+      last_attempt = clock_.SteadyNow();
       continue;
     }
     if (buffer.empty()) continue;

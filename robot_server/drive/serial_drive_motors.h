@@ -4,10 +4,13 @@
 // latest values; commands are written from the caller's thread. Wheel speeds are converted to
 // encoder ticks per second with the geometry given here, the single source of it (the board
 // knows no geometry). Encoder readings are stamped with the host clock on arrival.
-// The destructor sends Stop and joins the reader.
+// The port may be missing at start or vanish later (USB unplugged): the reader thread then
+// opens it again every kReopenPeriod; meanwhile writes fail, Status().link_ok is false and the
+// health says so. The destructor sends Stop and joins the reader.
 #pragma once
 
 #include <libserial/SerialPort.h>
+#include <sys/types.h>
 
 #include <atomic>
 #include <memory>
@@ -38,8 +41,8 @@ struct SerialDriveMotorsOptions {
 
 class SerialDriveMotors final : public DriveMotors {
  public:
-  // Opens and configures the port (8N1, no flow control) and starts the reader.
-  // nullptr with a message on failure.
+  // Opens and configures the port (8N1, no flow control) and starts the reader; a port that
+  // cannot be opened yet is retried by the reader. nullptr with a message for invalid options.
   static std::unique_ptr<SerialDriveMotors> Open(const Clock& clock,
                                                  const SerialDriveMotorsOptions& options,
                                                  std::string* error);
@@ -56,17 +59,28 @@ class SerialDriveMotors final : public DriveMotors {
   bool SendHeartbeat(std::string* error);
   // Decoder counters, for health reporting.
   MotorDecoderStats decoder_stats() const;
+  // Whether the port is open now, and how many times it was opened.
+  bool port_open() const { return port_open_.load(); }
+  int port_opens() const { return port_opens_.load(); }
+  static constexpr Duration kReopenPeriod = std::chrono::seconds(1);
 
  private:
   SerialDriveMotors(const Clock& clock, const SerialDriveMotorsOptions& options);
   bool Write(const MotorMessage& message, std::string* error);
+  bool OpenPort(std::string* error);
+  void ClosePortLocked();  // port_mutex_ held
+  bool PortStillThere() const;
   void ReadLoop();
   void HandleMessage(const MotorMessage& message);
 
   const Clock& clock_;
   const SerialDriveMotorsOptions options_;
   const double ticks_per_metre_;
-  LibSerial::SerialPort port_;
+  std::mutex port_mutex_;  // open, close and write; the reader thread alone reads
+  std::unique_ptr<LibSerial::SerialPort> port_;  // null while closed
+  std::atomic<bool> port_open_{false};
+  std::atomic<int> port_opens_{0};
+  dev_t port_device_ = 0;  // st_rdev of the open port (reader thread and OpenPort only)
   std::mutex write_mutex_;
   uint16_t next_sequence_ = 0;  // guarded by write_mutex_
 

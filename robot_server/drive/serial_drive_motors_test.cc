@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -125,14 +126,65 @@ SerialDriveMotorsOptions OptionsFor(const std::string& port) {
   return o;
 }
 
-TEST(SerialDriveMotorsTest, RefusesAMissingPortWithAMessage) {
+TEST(SerialDriveMotorsTest, RefusesInvalidOptionsWithAMessage) {
   std::string error;
   SerialDriveMotorsOptions o = OptionsFor("/dev/nonexistent-mostar-port");
-  EXPECT_EQ(SerialDriveMotors::Open(SystemClock::Instance(), o, &error), nullptr);
-  EXPECT_NE(error.find("nonexistent-mostar-port"), std::string::npos);
   o.baud = 12345;
   EXPECT_EQ(SerialDriveMotors::Open(SystemClock::Instance(), o, &error), nullptr);
   EXPECT_NE(error.find("baud"), std::string::npos);
+  o = OptionsFor("");
+  EXPECT_EQ(SerialDriveMotors::Open(SystemClock::Instance(), o, &error), nullptr);
+  EXPECT_NE(error.find("port"), std::string::npos);
+}
+
+// Polls `condition` for up to 6 s while sending heartbeats (reopening takes up to 1 s).
+bool WaitForLink(SerialDriveMotors* motors) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  std::string error;
+  while (std::chrono::steady_clock::now() < deadline) {
+    motors->SendHeartbeat(&error);
+    if (motors->Status().link_ok) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+// The board's port is missing at start (a udev symlink not there yet), appears, vanishes
+// (unplugged) and comes back: the motors open it each time, and meanwhile say why they fail.
+TEST(SerialDriveMotorsTest, OpensThePortWhenItAppearsAndAgainAfterItVanishes) {
+  char dir[] = "/tmp/mostar_drive_port_XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string link = std::string(dir) + "/mostar-drive";
+  std::string error;
+  auto motors = SerialDriveMotors::Open(SystemClock::Instance(), OptionsFor(link), &error);
+  ASSERT_NE(motors, nullptr) << error;
+  EXPECT_FALSE(motors->port_open());
+  EXPECT_FALSE(motors->Status().link_ok);
+  EXPECT_FALSE(motors->SetVelocity(0.1, 0, &error));
+  EXPECT_NE(error.find("not open"), std::string::npos) << error;
+
+  {
+    BoardEmulator board;
+    ASSERT_EQ(symlink(board.slave_name().c_str(), link.c_str()), 0);
+    EXPECT_TRUE(WaitForLink(motors.get())) << "the port was not opened once it appeared";
+    EXPECT_TRUE(motors->port_open());
+    EXPECT_EQ(motors->port_opens(), 1);
+    unlink(link.c_str());
+  }  // the board goes away: its pty closes under the open port
+
+  BoardEmulator replugged;
+  ASSERT_EQ(symlink(replugged.slave_name().c_str(), link.c_str()), 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  while (motors->port_opens() < 2 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(motors->port_opens(), 2) << "the vanished port was not opened again";
+  EXPECT_TRUE(WaitForLink(motors.get()));
+  EXPECT_TRUE(motors->SetVelocity(0.1, 0, &error)) << error;
+  EXPECT_TRUE(WaitFor([&] { return replugged.last_set_velocity().has_value(); }));
+  motors.reset();
+  unlink(link.c_str());
+  rmdir(dir);
 }
 
 TEST(SerialDriveMotorsTest, TalksToTheBoardOverAPty) {

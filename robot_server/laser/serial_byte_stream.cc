@@ -25,24 +25,7 @@ SerialByteStream::~SerialByteStream() { Close(); }
 
 bool SerialByteStream::IsOpen() const { return port_ != nullptr && port_->IsOpen(); }
 
-void SerialByteStream::Close() {
-  if (port_ == nullptr) return;
-  if (!port_->IsOpen()) {
-    port_.reset();
-    return;
-  }
-  try {
-    port_->Close();
-    port_.reset();
-    return;
-  } catch (const std::exception&) {
-  }
-  // The device vanished (unplugged adapter, closed pty): libserial cannot restore the line
-  // settings, keeps the port marked open and would throw from its destructor. Release the
-  // descriptor here and abandon the small object instead (once per unplug).
-  ::close(port_->GetFileDescriptor());
-  static_cast<void>(port_.release());
-}
+void SerialByteStream::Close() { serial::ClosePort(&port_); }
 
 bool SerialByteStream::ApplyBaud(std::string* error) {
   const auto rate = serial::ToLibSerialBaudRate(baud_);

@@ -1,5 +1,9 @@
 #include "robot_server/serial/baud_rate.h"
 
+#include <unistd.h>
+
+#include <exception>
+
 namespace mostar::serial {
 
 std::optional<LibSerial::BaudRate> ToLibSerialBaudRate(int baud) {
@@ -32,6 +36,20 @@ std::optional<LibSerial::BaudRate> ToLibSerialBaudRate(int baud) {
     default:
       return std::nullopt;
   }
+}
+
+void ClosePort(std::unique_ptr<LibSerial::SerialPort>* port) {
+  if (*port == nullptr) return;
+  if ((*port)->IsOpen()) {
+    try {
+      (*port)->Close();
+    } catch (const std::exception&) {
+      ::close((*port)->GetFileDescriptor());
+      static_cast<void>(port->release());
+      return;
+    }
+  }
+  port->reset();
 }
 
 }  // namespace mostar::serial
