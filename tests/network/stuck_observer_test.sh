@@ -44,13 +44,13 @@ server_pid=$!; pids+=("$server_pid")
 sleep 1
 for who in a b; do
   timeout $((run_s + 30)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
-    --dds-profile "$work/wan.xml" --id "observer_$who" --duration-s "$run_s" --no-ping \
+    --dds-profile "$work/wan.xml" --id "observer_${who}_$$" --duration-s "$run_s" --no-ping \
     --samples "$work/$who.csv" > "$work/$who.out" 2>&1 &
   pids+=($!)
 done
 probe_a=${pids[1]}; probe_b=${pids[2]}
 sleep "$freeze_after_s"
-pkill -STOP -f -- "--id observer_b" || true
+pkill -STOP -f -- "--id observer_b_$$" || true
 frozen_ns=$(date +%s%N)
 if [ "$stall_exit" = 1 ]; then
   for _ in $(seq $((freeze_s * 10))); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
@@ -61,14 +61,14 @@ if [ "$stall_exit" = 1 ]; then
   echo "stuck_observer_test --stall-exit: robot exit status $server_exit, ${stall_s} s after the freeze"
   check "the robot exited with status 3 during the freeze" '[ "$server_exit" = 3 ]'
   check "it said why" 'grep -q "DDS write has been blocked" "$work/server.log"'
-  pkill -CONT -f -- "--id observer_b" || true
+  pkill -CONT -f -- "--id observer_b_$$" || true
   [ "$failures" -eq 0 ] || { echo "--- server log"; tail -20 "$work/server.log"; exit 1; }
   echo "stuck_observer_test --stall-exit: all checks passed"
   exit 0
 fi
 sleep "$freeze_s"
 resumed_ns=$(date +%s%N)
-pkill -CONT -f -- "--id observer_b" || true
+pkill -CONT -f -- "--id observer_b_$$" || true
 set +e
 wait "$probe_a"; wait "$probe_b"
 kill -TERM "$server_pid"
