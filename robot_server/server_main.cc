@@ -327,7 +327,10 @@ int RunReplay(const std::string& path, double rate, bool loop, bool start_paused
   uint64_t published = 0;
   // Controls on standard input; detached because getline cannot be interrupted.
   std::thread([player, reader_keepalive] { ReadReplayControls(player); }).detach();
+  service::ServiceNotifier service;
+  service.Ready("replaying " + path);
   while (!g_stop && !player->finished()) {
+    service.Alive(clock->SteadyNow());
     for (const record::RecordedMessage& m : player->PollDue()) {
       ++published;
       std::visit(
@@ -360,6 +363,7 @@ int RunReplay(const std::string& path, double rate, bool loop, bool start_paused
                         << " (replayed everything before it)";
   }
   MOSTAR_LOG(INFO) << "replay done: " << published << " records published";
+  service.Stopping("replay done");
   trace->Flush();
   return 0;
 }
