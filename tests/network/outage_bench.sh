@@ -22,6 +22,8 @@
 #
 # Usage: outage_bench.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY SOURCE_DIR
 # Environment: OUTAGES ("5 25"), ATTEMPTS (3 per outage when the robot never drives),
+# PROBE=0 (no probe: two TCP clients from one address can starve one of them on Fast DDS 2.9;
+# the video cell then counts the pilot's frames captured after the link came back),
 # PROBE_LEAD_S (3: probe start before the pilot's), SPEED (0.2 m/s), PRE_S (3: driving before the cut), POST_S
 # (seconds measured after the link comes back; default 15, and 2N - 5 for outages N > 10 s so
 # that TCP's retransmission backoff can run out), HEALTH_PERIOD_S (0.05: counter resolution), VIDEO_HZ (30), VIDEO_QUALITY (80),
@@ -136,11 +138,14 @@ run_outage() {  # outage seconds
     --record "$run/robot.mrec" > "$run/server.log" 2>&1 &
   local robot_pid=$!; pids+=("$robot_pid")
   sleep 1
-  ip netns exec "$ons" "$net_probe" --domain "$domain" --dds-profile "$work/wan.xml" --no-ping \
-    --duration-s "$total" --samples "$run/probe.csv" > "$run/probe.log" 2>&1 &
-  local probe_pid=$!; pids+=("$probe_pid")
-  # The probe first, the pilot a little later: their DDS discoveries do not overlap.
-  sleep "${PROBE_LEAD_S:-3}"
+  local probe_pid=""
+  if [ "${PROBE:-1}" = 1 ]; then
+    ip netns exec "$ons" "$net_probe" --domain "$domain" --dds-profile "$work/wan.xml" --no-ping \
+      --duration-s "$total" --samples "$run/probe.csv" > "$run/probe.log" 2>&1 &
+    probe_pid=$!; pids+=("$probe_pid")
+    # The probe first, the pilot a little later: their DDS discoveries do not overlap.
+    sleep "${PROBE_LEAD_S:-3}"
+  fi
   ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator_client" \
     --headless --domain "$domain" --dds-profile "$work/wan.xml" --id operator --role pilot \
     --strength 10 --duration "$total" --drive "$speed,0" \
@@ -185,11 +190,11 @@ run_outage() {  # outage seconds
   # Stop in order: pilot (flushes its trace), probe, robot (closes its recording), relay.
   local client_pid; client_pid=$(ns_pid_of "$ons" operator_client)
   if [ -n "$client_pid" ] && ! stop_pid "$client_pid" 10 "$run/client_stacks_hung.txt"; then echo "client_hung" >> "$run/status"; fi
-  stop_pid "$probe_pid" 10 "$run/probe_stacks_hung.txt" || echo "probe_hung" >> "$run/status"
+  [ -z "$probe_pid" ] || stop_pid "$probe_pid" 10 "$run/probe_stacks_hung.txt" || echo "probe_hung" >> "$run/status"
   stop_pid "$robot_pid" 20 "$run/robot_stacks_hung.txt" || echo "robot_hung" >> "$run/status"
   stop_pid "$relay_pid" 5 || true
   stop_pid "$xvfb_pid" 5 || true
-  for p in "$robot_pid" "$probe_pid" "$xvfb_pid" "$relay_pid"; do wait "$p" 2>/dev/null || true; done
+  for p in "$robot_pid" $probe_pid "$xvfb_pid" "$relay_pid"; do wait "$p" 2>/dev/null || true; done
   pids=()
 }
 
@@ -389,6 +394,11 @@ def recovery(topic):
 left_first, left_fresh, left_pre, left_n = recovery("left")
 scan_first, scan_fresh, scan_pre, _ = recovery("scan")
 frame_age = "no frame" if left_first is None else "%.0f" % ms(left_first[1])
+if not os.path.exists(os.path.join(run, "probe.csv")):
+    # PROBE=0: no receive times; count the pilot's frames captured after the link came back.
+    pilot_after = sum(1 for tp, st, _ in read_trace(os.path.join(run, "client.csv"))
+                      if tp == "left" and t_up < st <= t_end)
+    frame_age = "no probe; pilot got %d frames" % pilot_after
 frame_fresh = "never" if left_fresh is None else "%.2f" % ((left_fresh - t_up) / 1e9)
 if left_first:
     notes.append("first left frame after link back received %.2f s after it; %d left frames after link back"

@@ -4,7 +4,7 @@
 # both ways, then restored) with the bench's own analysis, whose table row is checked here:
 # - the robot stops within deadman + ramp + slack (700 ms) of the last command before the cut;
 # - it never moves on data buffered during the outage (stale commands are rejected);
-# - the pilot drives it again after the link comes back (within 12 s), and video arrives again.
+# - the pilot drives it again after the link comes back (within 12 s), and video reaches it again.
 # A run whose robot never drove before the cut (a known Fast DDS 2.9 start-up hang over TCP,
 # docs/networking.md) is repeated once, and says so.
 #
@@ -14,7 +14,9 @@ set -euo pipefail
 [ $# -eq 5 ] || { echo "usage: outage_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY SOURCE_DIR" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
 set +e
-out=$(OUTAGES=5 POST_S=15 ATTEMPTS=2 VIDEO_HZ=15 VIDEO_QUALITY=60 "$here/outage_bench.sh" "$@" 2>&1)
+# The pilot alone (PROBE=0): a second TCP client from the same address can starve on Fast DDS
+# 2.9 (docs/networking.md, known limits).
+out=$(PROBE=0 OUTAGES=5 POST_S=15 ATTEMPTS=2 VIDEO_HZ=15 VIDEO_QUALITY=60 "$here/outage_bench.sh" "$@" 2>&1)
 status=$?
 set -e
 echo "$out"
@@ -24,7 +26,7 @@ row=$(echo "$out" | grep '^| 5 s |' || true)
 [ -n "$row" ] || { echo "FAIL: no result row"; exit 1; }
 cell() { echo "$row" | awk -F'|' -v i=$(($1 + 2)) '{ gsub(/^ +| +$/, "", $i); print $i }'; }
 stop_ms=$(cell 1); moved=$(cell 4); resume_s=$(cell 5); frame_age=$(cell 6)
-echo "outage_test: stop ${stop_ms} ms, moved on stale data: ${moved}, driving again after ${resume_s} s, first frame ${frame_age} ms old"
+echo "outage_test: stop ${stop_ms} ms, moved on stale data: ${moved}, driving again after ${resume_s} s, video after: ${frame_age}"
 failures=0
 check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
 number() { [[ "$1" =~ ^[0-9]+(\.[0-9]+)?$ ]]; }
@@ -32,6 +34,8 @@ check "the robot stopped within 700 ms of the last command" 'number "$stop_ms" &
 check "the robot never moved on stale data" '[ "$moved" = no ]'
 check "the pilot drove again within 12 s of the link coming back" \
   'number "$resume_s" && python3 -c "import sys; sys.exit(0 if $resume_s <= 12 else 1)"'
-check "video arrived again after the link came back" 'number "$frame_age"'
+pilot_frames=$(echo "$frame_age" | sed -n 's/.*pilot got \([0-9]*\) frames.*/\1/p')
+check "video reached the pilot again after the link came back (>= 10 frames)" \
+  '[ "${pilot_frames:-0}" -ge 10 ]'
 [ "$failures" -eq 0 ] || exit 1
 echo "outage_test: all checks passed"
