@@ -232,6 +232,14 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
     }
     return timelines[path] = timeline;
   };
+  // The options common to the replay devices; false (error set) when the file is unusable.
+  auto replay_device = [&](const std::string& key, const std::string& file, double rate, bool loop,
+                           replay::ReplayDeviceOptions* options) {
+    options->path = Resolve(file, config_dir);
+    options->timeline = timeline_for(key, options->path, rate, loop);
+    options->clock = clock;
+    return options->timeline != nullptr;
+  };
   if (ReplaysCamera(config)) {
     if (!camera::ValidateCameraConfig(config.camera(), error)) {
       *error = "camera." + *error;
@@ -239,10 +247,7 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
     }
     const camera::ReplayCameraConfig& r = config.camera().replay();
     replay::ReplayStereoCamera::Options options;
-    options.path = Resolve(r.file(), config_dir);
-    options.timeline = timeline_for("camera.replay.file", options.path, r.rate(), r.loop());
-    if (!options.timeline) return false;
-    options.clock = clock;
+    if (!replay_device("camera.replay.file", r.file(), r.rate(), r.loop(), &options)) return false;
     devices->camera = std::make_unique<replay::ReplayStereoCamera>(options);
     devices->camera_options = camera::MakePipelineOptions(config.camera());
     MOSTAR_LOG(INFO) << "camera: replaying " << options.path << " at " << r.rate() << "x"
@@ -251,10 +256,7 @@ bool MakeDevices(const ServerConfig& config, const std::string& config_dir, cons
   if (ReplaysLaser(config)) {
     const laser::LaserReplayConfig& r = config.laser().replay();
     replay::ReplayLaserScanner::Options options;
-    options.path = Resolve(r.file(), config_dir);
-    options.timeline = timeline_for("laser.replay.file", options.path, r.rate(), r.loop());
-    if (!options.timeline) return false;
-    options.clock = clock;
+    if (!replay_device("laser.replay.file", r.file(), r.rate(), r.loop(), &options)) return false;
     devices->laser = std::make_unique<replay::ReplayLaserScanner>(options);
     devices->scanner = devices->laser.get();
     MOSTAR_LOG(INFO) << "laser: replaying " << options.path << " at " << r.rate() << "x"

@@ -98,8 +98,9 @@ class ReplayDevicesTest : public ::testing::Test {
     EXPECT_NE(timeline, nullptr) << error;
     return timeline;
   }
+  // On the fake clock: waiting advances it.
   ReplayStereoCamera::Options CameraOptions(std::shared_ptr<ReplayTimeline> timeline) {
-    ReplayStereoCamera::Options options;
+    ReplayDeviceOptions options;
     options.path = path_;
     options.timeline = std::move(timeline);
     options.clock = &clock_;
@@ -108,10 +109,7 @@ class ReplayDevicesTest : public ::testing::Test {
   }
   ReplayLaserScanner::Options LaserOptions(std::shared_ptr<ReplayTimeline> timeline) {
     ReplayLaserScanner::Options options;
-    options.path = path_;
-    options.timeline = std::move(timeline);
-    options.clock = &clock_;
-    options.sleep = [this](Duration d) { clock_.Advance(d); };
+    static_cast<ReplayDeviceOptions&>(options) = CameraOptions(std::move(timeline));
     return options;
   }
   static int Grey(const cv::Mat& image) {

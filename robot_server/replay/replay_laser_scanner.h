@@ -17,20 +17,16 @@
 #include <thread>
 
 #include "common/time/rate_meter.h"
+#include "common/record/recording_reader.h"
+#include "common/record/replay_sources.h"
 #include "robot_server/laser/laser_scanner.h"
-#include "robot_server/replay/replay_stereo_camera.h"
 #include "robot_server/replay/replay_timeline.h"
 
 namespace mostar::replay {
 
 class ReplayLaserScanner final : public laser::LaserScanner {
  public:
-  struct Options {
-    std::string path;                               // the recording
-    std::shared_ptr<ReplayTimeline> timeline;       // shared with the camera of the same recording
-    const Clock* clock = &SystemClock::Instance();  // the timeline's clock; not owned
-    // Waits in slices of at most 20 ms, so Stop() is prompt. Tests inject a FakeClock advance.
-    SleepFn sleep = RealSleep;
+  struct Options : ReplayDeviceOptions {
     std::string name = "laser_replay";  // DeviceHealth name
   };
 

@@ -29,10 +29,6 @@ std::string DamageNote(const record::RecordingReader* reader) {
 
 }  // namespace
 
-void RealSleep(Duration d) {
-  if (d > Duration::zero()) std::this_thread::sleep_for(d);
-}
-
 ReplayStereoCamera::ReplayStereoCamera(Options options) : options_(std::move(options)) {}
 
 ReplayStereoCamera::~ReplayStereoCamera() { Close(); }

@@ -30,19 +30,9 @@
 
 namespace mostar::replay {
 
-// How replay backends wait: sleeps for the given duration, after which the backend's clock
-// must have advanced by it. Tests inject one that advances a FakeClock instead.
-using SleepFn = std::function<void(Duration)>;
-void RealSleep(Duration d);
-
 class ReplayStereoCamera final : public camera::StereoCamera {
  public:
-  struct Options {
-    std::string path;                               // the recording
-    std::shared_ptr<ReplayTimeline> timeline;       // shared with the laser of the same recording
-    const Clock* clock = &SystemClock::Instance();  // the timeline's clock; not owned
-    SleepFn sleep = RealSleep;
-  };
+  using Options = ReplayDeviceOptions;
 
   explicit ReplayStereoCamera(Options options);
   ~ReplayStereoCamera() override;

@@ -2,10 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include "common/record/recording_reader.h"
 
 namespace mostar::replay {
+
+void RealSleep(Duration d) {
+  if (d > Duration::zero()) std::this_thread::sleep_for(d);
+}
 
 bool ReplayTimelineOptions::IsValid(std::string* error) const {
   if (!(rate > 0) || !std::isfinite(rate)) {

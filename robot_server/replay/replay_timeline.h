@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -19,6 +20,22 @@
 #include "common/time/time.h"
 
 namespace mostar::replay {
+
+// How replay backends wait: sleeps for the given duration, after which the backend's clock
+// must have advanced by it. Tests inject one that advances a FakeClock instead.
+using SleepFn = std::function<void(Duration)>;
+void RealSleep(Duration d);
+
+class ReplayTimeline;
+
+// What every replay device (camera, laser) is built from.
+struct ReplayDeviceOptions {
+  std::string path;                               // the recording
+  std::shared_ptr<ReplayTimeline> timeline;       // shared by the devices of one recording
+  const Clock* clock = &SystemClock::Instance();  // the timeline's clock; not owned
+  // Waits in slices of at most 20 ms, so stopping is prompt.
+  SleepFn sleep = RealSleep;
+};
 
 struct ReplayTimelineOptions {
   double rate = 1.0;                                   // speed factor, > 0 (2 = twice as fast)
