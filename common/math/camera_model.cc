@@ -1,10 +1,11 @@
 #include "common/math/camera_model.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+#include "common/check/check.h"
 
 namespace mostar::math {
 namespace {
@@ -168,7 +169,7 @@ bool LaserCameraCalibration::IsValid(std::string* error) const {
 
 CameraModel::CameraModel(const LaserCameraCalibration& calibration, Eye eye)
     : calibration_(calibration), eye_(eye) {
-  assert(calibration_.IsValid(nullptr));
+  MOSTAR_CHECK(calibration_.IsValid(nullptr));
   // Columns: the level camera's x (right), y (down), z (forward) axes in the laser frame.
   Eigen::Matrix3d laser_from_level;
   laser_from_level << 0.0, 0.0, 1.0,  //
@@ -409,8 +410,8 @@ GlMatrices CameraModel::OpenGlMatrices(double near_m, double far_m) const {
 
 GlMatrices CameraModel::OpenGlMatrices(double near_m, double far_m,
                                        const ImageRegion& region) const {
-  assert(near_m > 0.0 && far_m > near_m);
-  assert(region.width_px > 0.0 && region.height_px > 0.0);
+  MOSTAR_CHECK(near_m > 0.0 && far_m > near_m);
+  MOSTAR_CHECK(region.width_px > 0.0 && region.height_px > 0.0);
   const double w = region.width_px;
   const double h = region.height_px;
   Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();

@@ -1,10 +1,10 @@
 #include "operator_client/fusion/ar_features.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstdio>
 
+#include "common/check/check.h"
 #include "operator_client/fusion/color_scale.h"
 
 namespace mostar::fusion {
@@ -84,7 +84,7 @@ bool ArFeatureOptions::IsValid(std::string* error) const {
 }
 
 ArFeatureBuilder::ArFeatureBuilder(const ArFeatureOptions& options) : options_(options) {
-  assert(options_.IsValid(nullptr));
+  MOSTAR_CHECK(options_.IsValid(nullptr));
   const float floor_z = -options_.laser_height_m;
   const float span = 2.f * options_.circle_half_angle_rad;
   const int segments = std::max(

@@ -1,8 +1,9 @@
 #include "operator_client/fusion/discontinuities.h"
 
-#include <cassert>
 #include <cmath>
 #include <limits>
+
+#include "common/check/check.h"
 
 namespace mostar::fusion {
 
@@ -36,7 +37,7 @@ bool IsUsableRange(const LaserScan& scan, float range_m) {
 }
 
 void SegmentScan(const LaserScan& scan, const SegmentationOptions& options, ScanSegmentation* out) {
-  assert(options.IsValid(nullptr));
+  MOSTAR_CHECK(options.IsValid(nullptr));
   const std::vector<float>& ranges = scan.ranges_m;
   const size_t n = ranges.size();
   const size_t walls = n > 0 ? n - 1 : 0;

@@ -1,8 +1,9 @@
 #include "operator_client/fusion/predicted_path.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
+
+#include "common/check/check.h"
 
 namespace mostar::fusion {
 
@@ -43,7 +44,7 @@ PlanarPose PoseAfter(double linear_mps, double angular_radps, double t_s) {
 
 void BuildPredictedPath(double linear_mps, double angular_radps,
                         const PredictedPathOptions& options, VertexArray* out) {
-  assert(options.IsValid(nullptr));
+  MOSTAR_CHECK(options.IsValid(nullptr));
   out->Clear();
   if (!std::isfinite(linear_mps) || !std::isfinite(angular_radps)) return;
   const int steps = static_cast<int>(std::ceil(options.horizon_s / options.step_s - 1e-4f));

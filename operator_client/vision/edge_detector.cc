@@ -1,10 +1,11 @@
 #include "operator_client/vision/edge_detector.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+
+#include "common/check/check.h"
 
 namespace mostar::vision {
 
@@ -39,7 +40,7 @@ int StretchGrey(int grey, int low_threshold, int high_threshold) {
 }
 
 EdgeDetector::EdgeDetector(const EdgeDetectorOptions& options) : options_(options) {
-  assert(options_.IsValid(nullptr));
+  MOSTAR_CHECK(options_.IsValid(nullptr));
   stretch_table_.create(1, 256, CV_8U);
   for (int g = 0; g < 256; ++g) {
     stretch_table_.at<uint8_t>(0, g) =
@@ -49,7 +50,7 @@ EdgeDetector::EdgeDetector(const EdgeDetectorOptions& options) : options_(option
 
 bool EdgeDetector::Detect(const cv::Mat& image, EdgeImages* out, std::string* error,
                           int first_row) const {
-  assert(out != nullptr);
+  MOSTAR_CHECK(out != nullptr);
   if (image.empty() || image.depth() != CV_8U ||
       (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)) {
     if (error != nullptr) {

@@ -1,8 +1,8 @@
 #include "operator_client/vision/edge_worker.h"
 
-#include <cassert>
 #include <utility>
 
+#include "common/check/check.h"
 #include "common/log/log.h"
 
 namespace mostar::vision {
@@ -14,28 +14,16 @@ EdgeWorker::EdgeWorker(const VisionOptions& options)
 
 EdgeWorker::EdgeWorker(ProcessFunction process)
     : process_(std::move(process)), custom_process_(true) {
-  assert(process_);
+  MOSTAR_CHECK(process_);
   thread_ = std::thread(&EdgeWorker::Run, this);
 }
 
 EdgeWorker::~EdgeWorker() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-  }
-  input_ready_.notify_all();
+  pending_.Close();  // discards a pending input, wakes the worker
   thread_.join();
 }
 
-void EdgeWorker::Submit(VisionInput input) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++stats_.submitted;
-    if (pending_.has_value()) ++stats_.replaced;
-    pending_ = std::move(input);
-  }
-  input_ready_.notify_one();
-}
+void EdgeWorker::Submit(VisionInput input) { pending_.Put(std::move(input)); }
 
 bool EdgeWorker::SetOptions(const VisionOptions& options, std::string* error) {
   if (custom_process_) {
@@ -65,20 +53,22 @@ bool EdgeWorker::WaitForProcessed(uint64_t count, Duration timeout) const {
 }
 
 EdgeWorker::Stats EdgeWorker::stats() const {
+  const LatestValueSlot<VisionInput>::Counters slot = pending_.counters();
   std::lock_guard<std::mutex> lock(mutex_);
-  return stats_;
+  Stats stats = stats_;
+  stats.submitted = slot.puts;
+  stats.replaced = slot.drops;
+  return stats;
 }
 
 void EdgeWorker::Run() {
-  while (true) {
-    VisionInput input;
+  while (!pending_.closed()) {
+    std::optional<VisionInput> taken = pending_.Take(std::chrono::seconds(1));
+    if (!taken) continue;
+    const VisionInput& input = *taken;
     std::shared_ptr<VisionPipeline> pipeline;
     {
-      std::unique_lock<std::mutex> lock(mutex_);
-      input_ready_.wait(lock, [&] { return stopping_ || pending_.has_value(); });
-      if (stopping_) return;
-      input = std::move(*pending_);
-      pending_.reset();
+      std::lock_guard<std::mutex> lock(mutex_);
       pipeline = pipeline_;
     }
     auto result = std::make_shared<VisionResult>();

@@ -19,6 +19,7 @@
 #include <string>
 #include <thread>
 
+#include "common/sync/latest_value_slot.h"
 #include "common/time/time.h"
 #include "operator_client/vision/vision_pipeline.h"
 
@@ -69,15 +70,13 @@ class EdgeWorker {
 
   ProcessFunction process_;
   const bool custom_process_;
+  LatestValueSlot<VisionInput> pending_;  // closed by the destructor
   mutable std::mutex mutex_;
-  mutable std::condition_variable input_ready_;
   mutable std::condition_variable result_ready_;
-  std::optional<VisionInput> pending_;          // guarded by mutex_
   std::shared_ptr<VisionPipeline> pipeline_;    // guarded by mutex_; used by the worker only
   std::shared_ptr<const VisionResult> latest_;  // guarded by mutex_
-  Stats stats_;                                 // guarded by mutex_
-  bool stopping_ = false;                       // guarded by mutex_
-  std::thread thread_;                          // last: starts after the rest exists
+  Stats stats_;         // guarded by mutex_ (submitted and replaced come from pending_)
+  std::thread thread_;  // last: starts after the rest exists
 };
 
 }  // namespace mostar::vision

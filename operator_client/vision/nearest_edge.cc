@@ -1,9 +1,10 @@
 #include "operator_client/vision/nearest_edge.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <sstream>
+
+#include "common/check/check.h"
 
 namespace mostar::vision {
 namespace {
@@ -159,8 +160,8 @@ int SobelL1(const cv::Mat& grey, int col, int row) {
 Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
                             const NearestEdgeOptions& options, double laser_height_m,
                             const cv::Mat& grey) {
-  assert(edges.type() == CV_8UC1);
-  assert(grey.empty() || (grey.type() == CV_8UC1 && grey.size() == edges.size()));
+  MOSTAR_CHECK(edges.type() == CV_8UC1);
+  MOSTAR_CHECK(grey.empty() || (grey.type() == CV_8UC1 && grey.size() == edges.size()));
   const int width = edges.cols;
   const int max_row = edges.rows - 1 - options.bottom_margin_px;
   const auto is_edge = [&](int col, int row) {
@@ -266,8 +267,8 @@ Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
 
 Nep FindNearestEdgeOnRay(const cv::Mat& edges, const math::CameraModel& camera, double azimuth_rad,
                          const NearestEdgeOptions& options, bool* ray_visible) {
-  assert(edges.type() == CV_8UC1 && edges.cols == camera.width_px() &&
-         edges.rows == camera.height_px());
+  MOSTAR_CHECK(edges.type() == CV_8UC1 && edges.cols == camera.width_px() &&
+               edges.rows == camera.height_px());
   const RayPixels ray = TraceRayPixels(camera, azimuth_rad, options);
   if (ray_visible != nullptr) *ray_visible = ray.visible;
   return FindNearestEdgeOnPixels(edges, ray, options, camera.calibration().laser_height_m);
@@ -338,7 +339,7 @@ bool NearestEdgeFinder::Find(const cv::Mat& edges,
                              const std::shared_ptr<const math::CameraModel>& camera,
                              const LaserScan& scan, NedResult* out, std::string* error,
                              const cv::Mat& grey) {
-  assert(out != nullptr);
+  MOSTAR_CHECK(out != nullptr);
   out->neps.assign(scan.ranges_m.size(), Nep{});
   out->visible_rays = 0;
   out->found = 0;
@@ -360,7 +361,7 @@ bool NearestEdgeFinder::Find(const cv::Mat& edges,
 bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, const LaserScan& scan,
                       const NearestEdgeOptions& options, NedResult* out, std::string* error,
                       const cv::Mat& grey) {
-  assert(out != nullptr);
+  MOSTAR_CHECK(out != nullptr);
   out->neps.assign(scan.ranges_m.size(), Nep{});
   out->visible_rays = 0;
   out->found = 0;

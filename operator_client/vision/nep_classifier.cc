@@ -1,10 +1,11 @@
 #include "operator_client/vision/nep_classifier.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+#include "common/check/check.h"
 
 namespace mostar::vision {
 
@@ -73,7 +74,7 @@ NepRelation RelateNepToLaser(const Nep& nep, float laser_range_m,
 bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
                   const std::vector<bool>& potential_outliers, const NepClassifierOptions& options,
                   double laser_height_m, NepClassification* out, std::string* error) {
-  assert(out != nullptr);
+  MOSTAR_CHECK(out != nullptr);
   const size_t n = scan.ranges_m.size();
   *out = NepClassification{};
   out->corrected_scan = scan;

@@ -1,17 +1,17 @@
 #include "operator_client/vision/nesc.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <sstream>
 
+#include "common/check/check.h"
 #include "operator_client/vision/nep_classifier.h"
 
 namespace mostar::vision {
 namespace {
 
 double Median(std::vector<double> values) {
-  assert(!values.empty());
+  MOSTAR_CHECK(!values.empty());
   const size_t middle = values.size() / 2;
   std::nth_element(values.begin(), values.begin() + middle, values.end());
   double median = values[middle];
@@ -67,7 +67,7 @@ const char* StereoNepKindName(StereoNepKind kind) {
 bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& scan,
              const math::CameraModel& right_camera, const NescOptions& options,
              const NepClassifierOptions& classifier, NescResult* out, std::string* error) {
-  assert(out != nullptr);
+  MOSTAR_CHECK(out != nullptr);
   const size_t n = scan.ranges_m.size();
   *out = NescResult{};
   out->kinds.assign(n, StereoNepKind::kNone);

@@ -1,9 +1,10 @@
 #include "operator_client/vision/vision_pipeline.h"
 
-#include <cassert>
 #include <chrono>
 #include <opencv2/core/utility.hpp>
 #include <sstream>
+
+#include "common/check/check.h"
 
 namespace mostar::vision {
 
@@ -82,7 +83,7 @@ VisionPipeline::VisionPipeline(const VisionOptions& options)
       detector_(options.edges),
       left_finder_(options.nearest_edge),
       right_finder_(options.nearest_edge) {
-  assert(options_.IsValid(nullptr));
+  MOSTAR_CHECK(options_.IsValid(nullptr));
 }
 
 VisionResult VisionPipeline::Process(const VisionInput& input) {
@@ -92,7 +93,7 @@ VisionResult VisionPipeline::Process(const VisionInput& input) {
 }
 
 void VisionPipeline::Process(const VisionInput& input, VisionResult* out) {
-  assert(out != nullptr);
+  MOSTAR_CHECK(out != nullptr);
   const auto start = std::chrono::steady_clock::now();
   out->stamp = input.stamp;
   out->sequence = input.sequence;

@@ -20,13 +20,13 @@
 #include <utility>
 #include <vector>
 
+#include "common/sync/latest_value_slot.h"
 #include "common/time/rate_meter.h"
 #include "common/time/time.h"
 #include "common/types/health.h"
 #include "common/types/stereo_frame.h"
 #include "robot_server/camera/bitrate_controller.h"
 #include "robot_server/camera/jpeg_compressor.h"
-#include "robot_server/camera/latest_value_slot.h"
 #include "robot_server/camera/stereo_camera.h"
 
 namespace mostar::camera {

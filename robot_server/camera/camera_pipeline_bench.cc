@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/stats/percentile.h"
 #include "robot_server/camera/camera_pipeline.h"
 #include "robot_server/camera/fake_stereo_camera.h"
 #include "robot_server/camera/file_stereo_camera.h"
@@ -26,13 +27,6 @@ double CpuSeconds() {
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
-double Percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(p * values.size()));
-  return values[index];
 }
 
 struct Row {
@@ -103,8 +97,9 @@ int Main(int argc, char** argv) {
     std::lock_guard<std::mutex> lock(mutex);
     const double pairs = static_cast<double>(latencies_ms.size());
     std::printf("%-14s %8.0f %8.1f %9.2f %9.2f %10.1f %10.1f\n", row.name.c_str(), pairs,
-                pairs / wall, Percentile(latencies_ms, 0.5), Percentile(latencies_ms, 0.95),
-                100.0 * cpu / wall, pairs > 0 ? bytes / pairs / 1024.0 : 0.0);
+                pairs / wall, Percentile(latencies_ms, 0.5).value_or(0),
+                Percentile(latencies_ms, 0.95).value_or(0), 100.0 * cpu / wall,
+                pairs > 0 ? bytes / pairs / 1024.0 : 0.0);
   }
   return 0;
 }

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/types/health.h"
 #include "robot_server/drive/wheel_encoders.h"
 
 namespace mostar::drive {
@@ -53,6 +54,26 @@ class DriveMotors : public WheelEncoders {
   virtual bool Stop(std::string* error, bool clear_faults = false) = 0;
   // Thread-safe snapshot.
   virtual MotorStatus Status() const = 0;
+  // The board as the health device "drive": kError without a link, kWarn on a fault, the
+  // board's frame counters. Callers add the control rate and their own counters. Thread-safe.
+  virtual DeviceHealth Health() const { return HealthFromStatus(Status(), "motor fault"); }
+
+ protected:
+  // `fault_message`: what a fault means on this device.
+  static DeviceHealth HealthFromStatus(const MotorStatus& status,
+                                       const std::string& fault_message) {
+    DeviceHealth health;
+    health.name = "drive";
+    health.state = !status.link_ok ? DeviceState::kError
+                   : status.fault  ? DeviceState::kWarn
+                                   : DeviceState::kOk;
+    if (status.fault) health.message = fault_message;
+    if (!status.link_ok) health.message = "no link to the motor board";
+    health.counters = {{"board_frames", status.frames_received},
+                       {"board_bad_frames", status.bad_frames},
+                       {"board_write_errors", status.write_errors}};
+    return health;
+  }
 };
 
 }  // namespace mostar::drive

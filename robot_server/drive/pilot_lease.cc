@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "common/check/check.h"
+
 namespace mostar::drive {
 
 const char* RoleName(Role role) {
@@ -35,8 +37,9 @@ RoleEntry RoleTable::Lookup(const std::string& client_id) const {
   return it == entries_.end() ? RoleEntry{} : it->second;
 }
 
-PilotLease::PilotLease(const Clock& clock, RoleTable roles)
-    : clock_(clock), roles_(std::move(roles)) {
+PilotLease::PilotLease(const Clock& clock, RoleTable roles, Duration holder_timeout)
+    : clock_(clock), roles_(std::move(roles)), holder_timeout_(holder_timeout) {
+  MOSTAR_CHECK(holder_timeout_ > Duration::zero()) << "holder_timeout must be positive";
   lease_.since = clock_.Now();
 }
 
@@ -45,6 +48,7 @@ void PilotLease::ChangeHolderLocked(const std::string& holder_id, int32_t streng
   lease_.holder_strength = strength;
   lease_.since = clock_.Now();
   ++lease_.lease_sequence;
+  holder_heard_ = clock_.SteadyNow();
 }
 
 LeaseDecision PilotLease::HandleRequest(const ControlRequest& request) {
@@ -63,7 +67,10 @@ LeaseDecision PilotLease::HandleRequest(const ControlRequest& request) {
     ++stats_.refused;
     return LeaseDecision::kRefusedObserver;
   }
-  if (lease_.holder_id == request.sender_id) return LeaseDecision::kGranted;
+  if (lease_.holder_id == request.sender_id) {
+    holder_heard_ = clock_.SteadyNow();
+    return LeaseDecision::kGranted;
+  }
   if (lease_.holder_id.empty()) {
     ChangeHolderLocked(request.sender_id, role.strength);
     ++stats_.granted;
@@ -85,6 +92,21 @@ bool PilotLease::OnLivelinessLost(const std::string& client_id) {
   ChangeHolderLocked("", 0);
   ++stats_.holder_lost;
   return true;
+}
+
+void PilotLease::NoteAlive(const std::string& client_id) {
+  const SteadyTime now = clock_.SteadyNow();
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!client_id.empty() && lease_.holder_id == client_id) holder_heard_ = now;
+}
+
+std::optional<std::string> PilotLease::ExpireSilentHolder(SteadyTime now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (lease_.holder_id.empty() || now - holder_heard_ <= holder_timeout_) return std::nullopt;
+  std::string lost = lease_.holder_id;
+  ChangeHolderLocked("", 0);
+  ++stats_.holder_lost;
+  return lost;
 }
 
 ControlLease PilotLease::lease() const {

@@ -6,8 +6,11 @@
 // - Observers never hold the lease.
 // - A pilot takes a free lease. A held lease changes hands only when the holder releases it or
 //   a strictly stronger pilot takes it over; equal or weaker requests are refused.
-// - When the holder's liveliness is lost (DDS liveliness/deadline event, fed in by the wiring)
-//   nobody holds the lease: a waiting pilot must ask again, nobody inherits motion.
+// - When the holder's liveliness is lost nobody holds the lease: a waiting pilot must ask
+//   again, nobody inherits motion. Liveliness is lost on a DDS liveliness/deadline event (fed in
+//   by the wiring through OnLivelinessLost) or when the holder was not heard from (NoteAlive:
+//   accepted commands, its own requests) for `holder_timeout` since the grant or the last sign
+//   of life (ExpireSilentHolder, called by the control loop).
 // - Every change stamps `since` with the clock and increments `lease_sequence`.
 // - E-stop: any client in the role table may engage it; pilots, or the client that engaged it,
 //   may release it.
@@ -17,6 +20,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "common/time/time.h"
@@ -63,11 +67,19 @@ struct PilotLeaseStats {
 
 class PilotLease {
  public:
-  PilotLease(const Clock& clock, RoleTable roles);
+  static constexpr Duration kDefaultHolderTimeout = std::chrono::seconds(2);
+  // `holder_timeout` > 0: silence after which the holder loses the lease.
+  PilotLease(const Clock& clock, RoleTable roles, Duration holder_timeout = kDefaultHolderTimeout);
 
   LeaseDecision HandleRequest(const ControlRequest& request);
   // The client's liveliness was lost. Returns true when it held the lease (now free).
   bool OnLivelinessLost(const std::string& client_id);
+  // A sign of life from `client_id` (steady clock now); only the holder's count.
+  void NoteAlive(const std::string& client_id);
+  // Frees the lease when its holder has been silent for more than `holder_timeout` at `now`;
+  // returns the id of the holder that lost it.
+  std::optional<std::string> ExpireSilentHolder(SteadyTime now);
+  Duration holder_timeout() const { return holder_timeout_; }
 
   ControlLease lease() const;  // `stamp` = now
   std::string holder() const;
@@ -82,8 +94,10 @@ class PilotLease {
 
   const Clock& clock_;
   const RoleTable roles_;
+  const Duration holder_timeout_;
   mutable std::mutex mutex_;
   ControlLease lease_;
+  SteadyTime holder_heard_;  // grant or last sign of life of the holder
   PilotLeaseStats stats_;
 };
 

@@ -114,5 +114,49 @@ TEST_F(PilotLeaseTest, EstopAuthorisation) {
   EXPECT_FALSE(lease_.MayReleaseEstop("mallory", "mallory"));
 }
 
+TEST_F(PilotLeaseTest, SilentHolderExpiresAfterTheTimeoutFromTheGrant) {
+  using std::chrono::milliseconds;
+  clock_.Advance(std::chrono::seconds(10));  // the timeout runs from the grant, not the start
+  ASSERT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  const uint64_t sequence = lease_.lease().lease_sequence;
+  clock_.Advance(PilotLease::kDefaultHolderTimeout);
+  EXPECT_FALSE(lease_.ExpireSilentHolder(clock_.SteadyNow()).has_value()) << "not more than";
+  clock_.Advance(milliseconds(1));
+  EXPECT_EQ(lease_.ExpireSilentHolder(clock_.SteadyNow()), "alice");
+  EXPECT_EQ(lease_.holder(), "");
+  EXPECT_EQ(lease_.lease().lease_sequence, sequence + 1);
+  EXPECT_EQ(lease_.stats().holder_lost, 1u);
+  EXPECT_FALSE(lease_.ExpireSilentHolder(clock_.SteadyNow()).has_value()) << "nobody to expire";
+}
+
+TEST_F(PilotLeaseTest, OnlyTheHoldersSignsOfLifeKeepTheLease) {
+  using std::chrono::milliseconds;
+  ASSERT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  for (int i = 0; i < 10; ++i) {  // 15 s of life signs every 1.5 s
+    clock_.Advance(milliseconds(1500));
+    lease_.NoteAlive("alice");
+    lease_.NoteAlive("bob");
+    EXPECT_FALSE(lease_.ExpireSilentHolder(clock_.SteadyNow()).has_value());
+  }
+  clock_.Advance(milliseconds(1500));
+  lease_.NoteAlive("bob");  // not the holder: does not keep alice's lease
+  clock_.Advance(milliseconds(600));
+  EXPECT_EQ(lease_.ExpireSilentHolder(clock_.SteadyNow()), "alice");
+}
+
+TEST_F(PilotLeaseTest, TheHoldersRepeatedTakeIsASignOfLife) {
+  using std::chrono::milliseconds;
+  ASSERT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  clock_.Advance(milliseconds(1500));
+  ASSERT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  clock_.Advance(milliseconds(1500));
+  EXPECT_FALSE(lease_.ExpireSilentHolder(clock_.SteadyNow()).has_value());
+}
+
+TEST(PilotLeaseDeathTest, NonPositiveHolderTimeoutIsABug) {
+  FakeClock clock;
+  EXPECT_DEATH(PilotLease(clock, RoleTable{}, Duration::zero()), "holder_timeout must be positive");
+}
+
 }  // namespace
 }  // namespace mostar::drive

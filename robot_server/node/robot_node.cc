@@ -21,6 +21,19 @@ bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
 
 }  // namespace
 
+DeviceHealth RobotNode::NetworkHealth() const {
+  DeviceHealth network;
+  network.name = "network";
+  network.counters = {
+      {"video_pairs_sent", pairs_sent()},
+      {"video_pairs_skipped", pairs_skipped()},
+      {"video_lanes_reclaimed", lanes_reclaimed()},
+      {"outbox_dropped", outbox_dropped()},
+      {"frame_subscribers", static_cast<uint64_t>(frame_subscribers())},
+      {"tcp_sockets_guarded", static_cast<uint64_t>(participant_->tcp_sockets_guarded())}};
+  return network;
+}
+
 std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Callbacks callbacks,
                                              const Clock* clock, std::string* error,
                                              VideoOptions video) {
@@ -34,6 +47,7 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   }
   std::unique_ptr<RobotNode> node(new RobotNode());
   node->clock_ = clock;
+  node->participant_ = participant;
   node->callbacks_ = std::move(callbacks);
   node->lane_timeout_ = video.lane_timeout;
   RobotNode* self = node.get();

@@ -26,6 +26,7 @@
 #include "common/types/odometry.h"
 #include "common/types/stereo_frame.h"
 #include "mostar_msgsPubSubTypes.h"
+#include "robot_server/node/robot_link.h"
 #include "ros2_msgsPubSubTypes.h"
 
 namespace mostar::server {
@@ -39,7 +40,7 @@ struct RobotVideoOptions {
   Duration lane_timeout = std::chrono::milliseconds(2000);
 };
 
-class RobotNode {
+class RobotNode final : public RobotLink {
  public:
   struct Callbacks {
     std::function<void(const VelocityCommand&)> on_command;
@@ -70,28 +71,26 @@ class RobotNode {
   // window_pairs / lane_timeout pairs per second.
   bool PublishStereo(const CompressedStereoPair& pair);
   // Intrinsics of one eye (transient local: late joiners get them at once).
-  void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info);
+  void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) override;
   // One eye, unconditionally (replay).
-  void PublishImage(Eye eye, const CompressedImage& image);
+  void PublishImage(Eye eye, const CompressedImage& image) override;
   // Scans, odometry, health and lease never block the caller (the control loop): they go into
   // an outbox that a publisher thread writes to DDS in order. A DDS write can block for as long
   // as a TCP link is down (the writer's mutex is held by a send into a full socket); the outbox
   // then keeps the newest kOutboxCapacity samples and counts the older ones it drops.
-  void PublishScan(const LaserScan& scan);
-  void PublishOdometry(const Odometry& odometry);
-  void PublishHealth(const RobotHealth& health);
-  void PublishLease(const ControlLease& lease);
+  void PublishScan(const LaserScan& scan) override;
+  void PublishOdometry(const Odometry& odometry) override;
+  void PublishHealth(const RobotHealth& health) override;
+  void PublishLease(const ControlLease& lease) override;
   static constexpr size_t kOutboxCapacity = 256;
   uint64_t outbox_dropped() const { return outbox_dropped_.load(); }
   // Waits until the outbox is empty (tests, orderly shutdown); false on timeout.
   bool FlushOutbox(Duration timeout);
 
-  ~RobotNode();
-  RobotNode(const RobotNode&) = delete;
-  RobotNode& operator=(const RobotNode&) = delete;
+  ~RobotNode() override;
 
   // Robot clock minus the client's clock, once enough ping exchanges completed.
-  std::optional<Duration> RobotMinusClient(const std::string& client_id) const;
+  std::optional<Duration> RobotMinusClient(const std::string& client_id) const override;
 
   // Remote endpoints currently matched (for health: how many viewers and pilots).
   int frame_subscribers() const { return lanes_.front().left->matched(); }
@@ -101,7 +100,9 @@ class RobotNode {
   // How long the DDS write in progress (outbox or video) has been blocked at `now`; zero when
   // no write is in progress. A write blocks while a TCP peer does not read (bounded by the TCP
   // user timeout) and for ever in a Fast DDS deadlock: the caller decides when to give up.
-  Duration BlockedWriteDuration(SteadyTime now) const;
+  Duration BlockedWriteDuration(SteadyTime now) const override;
+  // Video ack-clock, outbox and TCP guard counters as the health device "network".
+  DeviceHealth NetworkHealth() const override;
   // Pairs written on a lane that a reader had left unacknowledged for lane_timeout.
   uint64_t lanes_reclaimed() const { return lanes_reclaimed_.load(); }
   int command_writers() const { return command_->matched(); }
@@ -114,6 +115,7 @@ class RobotNode {
   void PublisherLoop();
 
   const Clock* clock_ = nullptr;
+  const dds::Participant* participant_ = nullptr;
   Callbacks callbacks_;
   timesync::ClockOffsetTable clock_offsets_;
   std::mutex pong_mutex_;

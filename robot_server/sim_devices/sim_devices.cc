@@ -70,6 +70,13 @@ drive::MotorStatus SimDriveMotors::Status() const {
   return status;
 }
 
+DeviceHealth SimDriveMotors::Health() const {
+  const RobotState state = world_->StateAt(clock_->Now());
+  DeviceHealth health = HealthFromStatus(Status(), "collision");
+  health.counters = {{"collisions", state.collision_count}};
+  return health;
+}
+
 bool SimDriveMotors::ReadEncoders(drive::EncoderReading* reading, std::string*) {
   const Time now = clock_->Now();
   const EncoderTicks ticks = world_->EncodersAt(now);

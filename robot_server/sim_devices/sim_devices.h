@@ -48,6 +48,8 @@ class SimDriveMotors final : public drive::DriveMotors {
   bool SetVelocity(double linear_mps, double angular_radps, std::string* error) override;
   bool Stop(std::string* error, bool clear_faults = false) override;
   drive::MotorStatus Status() const override;
+  // A fault is a collision; counts the collisions.
+  DeviceHealth Health() const override;
   bool ReadEncoders(drive::EncoderReading* reading, std::string* error) override;
   int counter_bits() const override;
 

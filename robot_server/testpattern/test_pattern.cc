@@ -6,6 +6,8 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
+#include "common/check/check.h"
+
 namespace mostar::testpattern {
 
 KinematicRobot::KinematicRobot(const RoomOptions& options, const Clock* clock)
@@ -162,6 +164,57 @@ camera::GrabResult TestPatternCamera::Grab(Duration timeout, camera::StereoImage
     (eye == 0 ? pair->left : pair->right) = image;
   }
   return camera::GrabResult::Ok();
+}
+
+TestPatternLaser::TestPatternLaser(const KinematicRobot* robot, double rate_hz, const Clock* clock)
+    : robot_(robot), rate_hz_(rate_hz), clock_(clock) {
+  MOSTAR_CHECK(robot_ != nullptr && clock_ != nullptr && rate_hz_ > 0);
+}
+
+TestPatternLaser::~TestPatternLaser() { Stop(); }
+
+bool TestPatternLaser::Start(ScanCallback on_scan, std::string* error) {
+  if (thread_.joinable()) {
+    *error = "test-pattern laser already started";
+    return false;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = false;
+  }
+  thread_ = std::thread([this, on_scan = std::move(on_scan)] { Run(on_scan); });
+  return true;
+}
+
+void TestPatternLaser::Stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void TestPatternLaser::Run(ScanCallback on_scan) {
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / rate_hz_));
+  auto next = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stop_) {
+    lock.unlock();
+    on_scan(SyntheticScan(*robot_, clock_->Now(), ++scans_));
+    lock.lock();
+    next += period;
+    wake_.wait_until(lock, next, [this] { return stop_; });
+  }
+}
+
+DeviceHealth TestPatternLaser::Health() const {
+  DeviceHealth health;
+  health.name = "laser";
+  health.rate_hz = static_cast<float>(rate_hz_);
+  health.counters = {{"scans", scans_.load()}};
+  return health;
 }
 
 }  // namespace mostar::testpattern

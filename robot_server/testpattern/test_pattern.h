@@ -3,14 +3,18 @@
 // of the room. Deterministic and cheap; the simulator (robot_server/sim) is the realistic one.
 #pragma once
 
+#include <atomic>
+#include <condition_variable>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "common/time/time.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
 #include "robot_server/camera/stereo_camera.h"
 #include "robot_server/drive/drive_motors.h"
+#include "robot_server/laser/laser_scanner.h"
 
 namespace mostar::testpattern {
 
@@ -54,6 +58,30 @@ class KinematicRobot final : public drive::DriveMotors {
 
 // 181 beams over 180 degrees, ranges to the room walls from the robot's true pose.
 LaserScan SyntheticScan(const KinematicRobot& robot, Time stamp, uint64_t sequence);
+
+// SyntheticScan as a laser device: `rate_hz` scans per second on its own thread, stamped with
+// the clock's wall time, sequence numbers from 1. Health "laser" is kOk while running.
+class TestPatternLaser final : public laser::LaserScanner {
+ public:
+  // `robot` outlives this; `rate_hz` > 0.
+  TestPatternLaser(const KinematicRobot* robot, double rate_hz, const Clock* clock);
+  ~TestPatternLaser() override;
+  bool Start(ScanCallback on_scan, std::string* error) override;
+  void Stop() override;
+  DeviceHealth Health() const override;
+
+ private:
+  void Run(ScanCallback on_scan);
+
+  const KinematicRobot* robot_;
+  const double rate_hz_;
+  const Clock* clock_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
+  std::atomic<uint64_t> scans_{0};
+};
 
 // Renders a stereo pair: a floor grid seen from a tilted camera, the time and the robot pose.
 class TestPatternCamera final : public camera::StereoCamera {

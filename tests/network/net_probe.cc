@@ -32,6 +32,7 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
+#include "common/stats/percentile.h"
 #include "common/time/time.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "ros2_msgsPubSubTypes.h"
@@ -76,11 +77,7 @@ class Recorder {
   // Percentile `q` in [0, 1] of the values recorded under `topic`; -1 when none.
   double Percentile(const std::string& topic, double q) {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::vector<double> v = ages_ms_[topic];
-    if (v.empty()) return -1;
-    std::sort(v.begin(), v.end());
-    const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
-    return v[i];
+    return mostar::Percentile(ages_ms_[topic], q).value_or(-1);
   }
 
   // Seconds of steady state measured so far (after the warm-up); 0 before it ends.

@@ -1,10 +1,10 @@
-#include "robot_server/camera/latest_value_slot.h"
+#include "common/sync/latest_value_slot.h"
 
 #include <gtest/gtest.h>
 
 #include <thread>
 
-namespace mostar::camera {
+namespace mostar {
 namespace {
 
 TEST(LatestValueSlotTest, TakeReturnsTheLatestValueAndCountsReplacedOnesAsDrops) {
@@ -59,4 +59,4 @@ TEST(LatestValueSlotTest, MoveOnlyValuesAreHandedOver) {
 }
 
 }  // namespace
-}  // namespace mostar::camera
+}  // namespace mostar

@@ -15,7 +15,7 @@
 
 #include "common/time/time.h"
 
-namespace mostar::camera {
+namespace mostar {
 
 template <typename T>
 class LatestValueSlot {
@@ -94,4 +94,4 @@ class LatestValueSlot {
   Counters counters_;
 };
 
-}  // namespace mostar::camera
+}  // namespace mostar

@@ -1,0 +1,189 @@
+#include "robot_server/control/robot_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "common/check/check.h"
+#include "common/log/log.h"
+#include "common/record/recording_writer.h"
+
+namespace mostar::server {
+
+bool RobotControllerOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (health_period <= Duration::zero()) return fail("health_period must be positive");
+  if (lease_period <= Duration::zero()) return fail("lease_period must be positive");
+  if (holder_timeout <= Duration::zero()) return fail("holder_timeout must be positive");
+  if (write_stall_limit < Duration::zero()) return fail("write_stall_limit must not be negative");
+  if (intrinsics.size() > 2) return fail("at most two intrinsics (left, right)");
+  std::string why;
+  if (!odometry.IsValid(&why)) return fail("odometry: " + why);
+  if (!safety.IsValid(&why)) return fail("safety: " + why);
+  return true;
+}
+
+RobotController::RobotController(const RobotControllerOptions& options,
+                                 RobotControllerDevices devices, RobotLink* link,
+                                 const Clock* clock, StampTrace* trace)
+    : options_(options),
+      devices_(std::move(devices)),
+      link_(link),
+      clock_(clock),
+      trace_(trace),
+      lease_(*clock, options.roles, options.holder_timeout),
+      governor_(*clock, options.safety),
+      odometry_(options.odometry) {
+  std::string error;
+  MOSTAR_CHECK(options_.IsValid(&error)) << error;
+  MOSTAR_CHECK(devices_.motors != nullptr && link_ != nullptr && clock_ != nullptr);
+}
+
+RobotController::~RobotController() { Stop(); }
+
+bool RobotController::Start(std::string* error) {
+  if (devices_.laser == nullptr) return true;
+  if (!devices_.laser->Start([this](const LaserScan& scan) { OnScan(scan); }, error)) {
+    *error = "laser: " + *error;
+    return false;
+  }
+  return true;
+}
+
+void RobotController::Stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  if (devices_.laser != nullptr) devices_.laser->Stop();
+  std::string error;
+  if (!devices_.motors->Stop(&error)) MOSTAR_LOG(ERROR) << "motors: stop failed: " << error;
+}
+
+void RobotController::OnCommand(const VelocityCommand& command) {
+  const drive::CommandVerdict verdict =
+      governor_.HandleCommand(command, link_->RobotMinusClient(command.sender_id));
+  if (verdict != drive::CommandVerdict::kAccepted) {
+    MOSTAR_LOG_EVERY_SEC(DEBUG, 2)
+        << "command " << command.sequence << " from " << command.sender_id << ": "
+        << drive::CommandVerdictName(verdict);
+    return;
+  }
+  // Only accepted commands keep the holder alive: a rejected stream (stale, out of order, not
+  // the holder) is no sign of a pilot in control.
+  lease_.NoteAlive(command.sender_id);
+  if (trace_) {
+    trace_->Add("command", command.stamp, command.sequence);
+    trace_->Add("command_rx", clock_->Now(), command.sequence);  // robot clock, on arrival
+  }
+  if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(command);
+}
+
+void RobotController::OnEmergencyStop(const EmergencyStop& stop) {
+  const bool authorised =
+      stop.engage ? lease_.MayEngageEstop(stop.sender_id)
+                  : lease_.MayReleaseEstop(stop.sender_id, governor_.status().estop_engaged_by);
+  governor_.HandleEmergencyStop(stop, authorised);
+  MOSTAR_LOG(WARNING) << "emergency stop " << (stop.engage ? "engage" : "release") << " from "
+                      << stop.sender_id << (authorised ? "" : " refused (not authorised)");
+}
+
+void RobotController::OnControlRequest(const ControlRequest& request) {
+  const drive::LeaseDecision decision = lease_.HandleRequest(request);
+  governor_.SetLeaseHolder(lease_.holder());
+  lease_changed_ = true;
+  MOSTAR_LOG(INFO) << "control " << (request.take ? "take" : "release") << " by "
+                   << request.sender_id << ": " << drive::LeaseDecisionName(decision)
+                   << "; holder now '" << lease_.holder() << "'";
+}
+
+void RobotController::OnScan(const LaserScan& scan) {
+  governor_.SetLaserScan(scan);
+  link_->PublishScan(scan);
+  if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(scan);
+  if (trace_) trace_->Add("scan", scan.stamp, scan.sequence);
+}
+
+StepResult RobotController::Step(SteadyTime now) {
+  // A holder that went silent loses the lease: nobody inherits motion.
+  if (const std::optional<std::string> lost = lease_.ExpireSilentHolder(now)) {
+    governor_.OnLinkLost(*lost);
+    governor_.SetLeaseHolder(lease_.holder());
+    lease_changed_ = true;
+    MOSTAR_LOG(WARNING) << "pilot '" << *lost << "' went silent: lease released";
+  }
+  std::string error;
+  if (options_.write_stall_limit > Duration::zero() &&
+      link_->BlockedWriteDuration(now) > options_.write_stall_limit) {
+    MOSTAR_LOG(ERROR) << "a network write has been blocked for more than "
+                      << ToSeconds(options_.write_stall_limit)
+                      << " s (DDS deadlock?): stopping the robot";
+    devices_.motors->Stop(&error);
+    return StepResult::kWriteStalled;
+  }
+  const drive::GovernorOutput out = governor_.Update();
+  if (trace_) {
+    trace_->Add("drive_out_mmps", clock_->Now(),
+                static_cast<uint64_t>(std::llround(std::abs(out.linear_mps) * 1000)));
+  }
+  if (!devices_.motors->SetVelocity(out.linear_mps, out.angular_radps, &error)) {
+    ++motor_errors_;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "motors: " << error;
+  }
+  drive::EncoderReading reading;
+  if (devices_.motors->ReadEncoders(&reading, &error) && odometry_.AddReading(reading)) {
+    const Odometry& odometry = odometry_.odometry();
+    link_->PublishOdometry(odometry);
+    if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(odometry);
+    if (trace_) {
+      trace_->Add("odom_x_mm", odometry.stamp,
+                  static_cast<uint64_t>(std::max(0.0, odometry.pose.x_m * 1000)));
+    }
+  }
+  control_rate_.Tick(now);
+  if (lease_changed_.exchange(false) || !next_lease_ || now >= *next_lease_) {
+    next_lease_ = now + options_.lease_period;
+    PublishLease();
+  }
+  if (!next_health_ || now >= *next_health_) {
+    next_health_ = now + options_.health_period;
+    const RobotHealth health = AssembleHealth(now);
+    link_->PublishHealth(health);
+    if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(health);
+  }
+  return StepResult::kRunning;
+}
+
+void RobotController::PublishLease() {
+  const ControlLease current = lease_.lease();
+  link_->PublishLease(current);
+  for (size_t e = 0; e < options_.intrinsics.size(); ++e) {
+    CameraIntrinsicsInfo info = options_.intrinsics[e];
+    info.stamp = clock_->Now();
+    link_->PublishCameraInfo(e == 0 ? Eye::kLeft : Eye::kRight, info);
+  }
+  if (trace_)
+    trace_->Add(("lease:" + current.holder_id).c_str(), current.stamp, current.lease_sequence);
+  if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(current);
+}
+
+RobotHealth RobotController::AssembleHealth(SteadyTime now) {
+  RobotHealth health;
+  health.stamp = clock_->Now();
+  health.robot_id = options_.robot_id;
+  governor_.FillRobotHealth(&health);
+  health.lease_holder = lease_.holder();
+  if (devices_.camera_health) health.devices.push_back(devices_.camera_health());
+  if (devices_.laser != nullptr) health.devices.push_back(devices_.laser->Health());
+  health.devices.push_back(governor_.Health());
+  DeviceHealth drive = devices_.motors->Health();
+  drive.rate_hz = static_cast<float>(control_rate_.RateHz(now));
+  drive.counters.emplace_back("motor_errors", motor_errors_);
+  drive.counters.emplace_back("odometry_glitches", odometry_.stats().glitches);
+  health.devices.push_back(std::move(drive));
+  health.devices.push_back(link_->NetworkHealth());
+  return health;
+}
+
+}  // namespace mostar::server

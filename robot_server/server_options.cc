@@ -1,0 +1,45 @@
+#include "robot_server/server_options.h"
+
+#include "common/config/config_paths.h"
+
+namespace mostar::server {
+
+void ApplyFlags(const ServerFlags& flags, ServerConfig* config) {
+  if (flags.source == "test_pattern") config->set_source(ServerConfig::TEST_PATTERN);
+  if (flags.source == "sim") config->set_source(ServerConfig::SIM);
+  if (flags.source == "hardware") config->set_source(ServerConfig::HARDWARE);
+  if (!flags.scene.empty()) {
+    config->set_source(ServerConfig::SIM);
+    config->set_scene_file(AbsoluteFromWorkingDirectory(flags.scene));
+  }
+  if (!flags.replay_sensors.empty()) {
+    const std::string file = AbsoluteFromWorkingDirectory(flags.replay_sensors);
+    camera::CameraConfig* camera_config = config->mutable_camera();
+    camera_config->set_backend(camera::CameraConfig::REPLAY);
+    camera_config->mutable_replay()->set_file(file);
+    camera_config->mutable_replay()->set_rate(flags.replay_rate);
+    camera_config->mutable_replay()->set_loop(flags.replay_loop);
+    laser::LaserReplayConfig* laser_replay = config->mutable_laser()->mutable_replay();
+    laser_replay->set_file(file);
+    laser_replay->set_rate(flags.replay_rate);
+    laser_replay->set_loop(flags.replay_loop);
+  }
+}
+
+RobotControllerOptions ControllerOptionsFrom(const ServerConfig& config,
+                                             const drive::DriveSettings& settings,
+                                             const std::vector<CameraIntrinsicsInfo>& intrinsics) {
+  RobotControllerOptions options;
+  options.robot_id = config.robot_id();
+  options.health_period = FromSeconds(config.health_period_s());
+  options.lease_period = FromSeconds(config.lease_period_s());
+  options.holder_timeout = FromSeconds(config.holder_timeout_s());
+  options.write_stall_limit = FromSeconds(config.dds().write_stall_exit_s());
+  options.odometry = settings.odometry;
+  options.safety = settings.safety;
+  options.roles = settings.roles;
+  options.intrinsics = intrinsics;
+  return options;
+}
+
+}  // namespace mostar::server

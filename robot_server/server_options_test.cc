@@ -1,0 +1,88 @@
+#include "robot_server/server_options.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <climits>
+
+namespace mostar::server {
+namespace {
+
+std::string Cwd() {
+  char cwd[PATH_MAX];
+  return getcwd(cwd, sizeof(cwd)) ? cwd : "";
+}
+
+TEST(ServerOptionsTest, SimFlagSelectsTheSimulatorWithAnAbsoluteScene) {
+  ServerConfig config;
+  config.set_source(ServerConfig::HARDWARE);
+  config.set_scene_file("scenes/corridor.pbtxt");
+  ServerFlags flags;
+  flags.scene = "my_scene.pbtxt";
+  ApplyFlags(flags, &config);
+  EXPECT_EQ(config.source(), ServerConfig::SIM);
+  EXPECT_EQ(config.scene_file(), Cwd() + "/my_scene.pbtxt");
+}
+
+TEST(ServerOptionsTest, SourceFlagOverridesTheFileAndNoFlagChangesNothing) {
+  ServerConfig config;
+  config.set_source(ServerConfig::SIM);
+  config.set_scene_file("scenes/corridor.pbtxt");
+  const std::string before = config.SerializeAsString();
+  ApplyFlags(ServerFlags{}, &config);
+  EXPECT_EQ(config.SerializeAsString(), before);
+  ServerFlags flags;
+  flags.source = "test_pattern";
+  ApplyFlags(flags, &config);
+  EXPECT_EQ(config.source(), ServerConfig::TEST_PATTERN);
+  EXPECT_EQ(config.scene_file(), "scenes/corridor.pbtxt") << "file paths stay file-relative";
+}
+
+TEST(ServerOptionsTest, ReplaySensorsReplaysCameraAndLaserOfOneFileAtOneRate) {
+  ServerConfig config;
+  ServerFlags flags;
+  flags.replay_sensors = "/data/run.mostar";
+  flags.replay_rate = 0.5;
+  flags.replay_loop = true;
+  ApplyFlags(flags, &config);
+  EXPECT_EQ(config.camera().backend(), camera::CameraConfig::REPLAY);
+  EXPECT_EQ(config.camera().replay().file(), "/data/run.mostar");
+  EXPECT_EQ(config.laser().replay().file(), "/data/run.mostar");
+  EXPECT_DOUBLE_EQ(config.camera().replay().rate(), 0.5);
+  EXPECT_DOUBLE_EQ(config.laser().replay().rate(), 0.5);
+  EXPECT_TRUE(config.camera().replay().loop());
+  EXPECT_TRUE(config.laser().replay().loop());
+}
+
+TEST(ServerOptionsTest, ControllerOptionsComeFromTheConfigurationAndAreValid) {
+  ServerConfig config;
+  config.set_robot_id("morduc");
+  config.set_health_period_s(0.25);
+  config.set_lease_period_s(2);
+  config.set_holder_timeout_s(3);
+  config.mutable_dds()->set_write_stall_exit_s(12);
+  drive::DriveSettings settings;
+  settings.roles.Set("alice", {drive::Role::kPilot, 1});
+  settings.safety.max_linear_mps = 0.4;
+  const RobotControllerOptions options =
+      ControllerOptionsFrom(config, settings, {CameraIntrinsicsInfo{}});
+  EXPECT_EQ(options.robot_id, "morduc");
+  EXPECT_EQ(options.health_period, std::chrono::milliseconds(250));
+  EXPECT_EQ(options.lease_period, std::chrono::seconds(2));
+  EXPECT_EQ(options.holder_timeout, std::chrono::seconds(3));
+  EXPECT_EQ(options.write_stall_limit, std::chrono::seconds(12));
+  EXPECT_TRUE(options.roles.Known("alice"));
+  EXPECT_DOUBLE_EQ(options.safety.max_linear_mps, 0.4);
+  EXPECT_EQ(options.intrinsics.size(), 1u);
+  std::string error;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+}
+
+TEST(ServerOptionsTest, DefaultConfigurationGivesValidControllerOptions) {
+  std::string error;
+  EXPECT_TRUE(ControllerOptionsFrom(ServerConfig{}, drive::DriveSettings{}, {}).IsValid(&error))
+      << error;
+}
+
+}  // namespace
+}  // namespace mostar::server
