@@ -4,14 +4,20 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <thread>
 
+#include "common/dds/conversions.h"
 #include "common/dds/domain.h"
+#include "common/dds/endpoint.h"
+#include "common/dds/participant.h"
+#include "common/dds/topics.h"
 #include "common/testing/subprocess.h"
 #include "common/testing/trace.h"
+#include "mostar_msgsPubSubTypes.h"
 
 namespace mostar {
 namespace {
@@ -81,11 +87,75 @@ class DriveIntegrationTest : public ::testing::Test {
   std::string domain_;
 };
 
+// Asks for the lease under `sender_id` over DDS, as a client would, every 300 ms until
+// destroyed. The operator client never asks as an observer (it has no control request writer
+// then), so this stands in for an observer that does.
+class ControlRequester {
+ public:
+  ControlRequester(const std::string& domain, const std::string& sender_id, int32_t strength) {
+    dds::ParticipantOptions options;
+    options.domain_id = std::stoi(domain);
+    options.name = sender_id;
+    participant_ = dds::Participant::Create(options, &error_);
+    if (participant_ == nullptr) return;
+    writer_ = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>>(
+        *participant_, dds::topics::kControlRequest, dds::Stream::kControl);
+    if (!writer_->ok()) {
+      error_ = writer_->error();
+      return;
+    }
+    thread_ = std::thread([this, sender_id, strength] {
+      while (!stop_) {
+        ControlRequest request;
+        request.stamp = SystemClock::Instance().Now();
+        request.sender_id = sender_id;
+        request.strength = strength;
+        request.take = true;
+        if (writer_->Write(dds::ToIdl(request))) ++sent_;
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      }
+    });
+  }
+  ~ControlRequester() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    writer_.reset();
+  }
+  bool ok() const { return writer_ != nullptr && writer_->ok(); }
+  const std::string& error() const { return error_; }
+  int matched() const { return writer_ ? writer_->matched() : 0; }
+  int sent() const { return sent_.load(); }
+
+ private:
+  std::string error_;
+  std::unique_ptr<dds::Participant> participant_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> writer_;
+  std::atomic<bool> stop_{false};
+  std::atomic<int> sent_{0};
+  std::thread thread_;
+};
+
 TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserver) {
   Subprocess server;
   StartServer(&server);
   Subprocess observer, weak, strong;
   StartClient(&observer, "observer", "observer", 22, "");
+  // The observer (an observer in server_sim.pbtxt's role table) asks for the lease throughout,
+  // with the largest strength a request can carry: the robot takes roles and strengths from
+  // its own table, never from the request.
+  ControlRequester observer_requests(domain_, "observer", 1000);
+  ASSERT_TRUE(observer_requests.ok()) << observer_requests.error();
+  // Its first request reaches the robot while nobody holds the lease, and is refused.
+  const std::string observer_asked = "control take by observer: ";
+  std::string server_log;
+  for (int i = 0; i < 600 && server_log.find(observer_asked) == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    server_log = testing::ReadFile(dir_ + "/server.log");
+  }
+  ASSERT_NE(server_log.find(observer_asked), std::string::npos)
+      << "the observer's request never reached the robot: " << server_log;
+  EXPECT_NE(server_log.find(observer_asked + "refused: observer; holder now ''"), std::string::npos)
+      << server_log;
   StartClient(&weak, "operator", "pilot", 22, "", 10);  // strength 10 in server_sim.pbtxt
   std::this_thread::sleep_for(std::chrono::seconds(5));
   // Strength 20 (as in the role table): takes over, then leaves.
@@ -93,6 +163,7 @@ TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserve
   ASSERT_TRUE(strong.Wait(std::chrono::seconds(60)).has_value());
   ASSERT_TRUE(weak.Wait(std::chrono::seconds(60)).has_value());
   ASSERT_TRUE(observer.Wait(std::chrono::seconds(60)).has_value());
+  const int observer_requests_sent = observer_requests.sent();
   server.Signal(SIGTERM);
   ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value());
 
@@ -114,6 +185,11 @@ TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserve
   EXPECT_LT(strong_at, history.size()) << joined;
   EXPECT_LT(weak_again, history.size()) << joined;
   EXPECT_EQ(find("observer", 0), history.size()) << "an observer held the lease: " << joined;
+  // It kept asking while the pilots came, took over and left (one request per 300 ms), and
+  // was never granted the lease.
+  EXPECT_GT(observer_requests_sent, 40);
+  EXPECT_EQ(testing::ReadFile(dir_ + "/server.log").find(observer_asked + "granted"),
+            std::string::npos);
   // The simulated cameras' intrinsics reached the clients (camera_info topics).
   EXPECT_NE(testing::ReadFile(dir_ + "/observer.log").find("using the robot's camera intrinsics"),
             std::string::npos);

@@ -8,12 +8,17 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
 
 #include "common/dds/domain.h"
 #include "common/testing/subprocess.h"
 #include "common/testing/trace.h"
+#include "common/time/fake_clock.h"
+#include "robot_server/testpattern/test_pattern.h"
 
 namespace mostar {
 namespace {
@@ -24,6 +29,61 @@ using testing::ReadTrace;
 
 std::string Bin(const char* name) { return std::string(MOSTAR_TEST_BINARY_DIR) + "/" + name; }
 std::string Source(const char* path) { return std::string(MOSTAR_TEST_SOURCE_DIR) + "/" + path; }
+
+// What the screenshot of a working pipeline shows and a blank or video-only frame does not.
+struct ScreenshotContent {
+  double grey_stddev = 0;  // 0 for a uniform image
+  // Pixels in the lower half in the AR overlay's distance colours (walls, rays, circles, labels:
+  // red 0 deg - yellow 60 deg - green 120 deg, strongly saturated and bright). The test
+  // pattern's floor, walls and text are greys and pale colours; the HUD sits in the top left.
+  int overlay_pixels = 0;
+};
+
+ScreenshotContent Analyse(const cv::Mat& bgr) {
+  ScreenshotContent content;
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(grey, mean, stddev);
+  content.grey_stddev = stddev[0];
+  cv::Mat hsv;  // OpenCV 8-bit hue: degrees / 2
+  cv::cvtColor(bgr(cv::Rect(0, bgr.rows / 2, bgr.cols, bgr.rows - bgr.rows / 2)), hsv,
+               cv::COLOR_BGR2HSV);
+  cv::Mat red_to_green, red_wrap;
+  cv::inRange(hsv, cv::Scalar(0, 150, 100), cv::Scalar(65, 255, 255), red_to_green);
+  cv::inRange(hsv, cv::Scalar(170, 150, 100), cv::Scalar(180, 255, 255), red_wrap);
+  content.overlay_pixels = cv::countNonZero(red_to_green) + cv::countNonZero(red_wrap);
+  return content;
+}
+
+// Share of the lower half in overlay colours that a drawn overlay exceeds. Measured on this
+// test's screenshots: 23% and 41% (the distance-coloured wall band fills the lower half as the
+// robot nears the wall); the same run with walls, rays, circles, labels and vision switched off
+// in the client config: 0%. The laser points alone (a dotted line across) would be about 1.1%.
+constexpr double kMinOverlayShare = 0.02;
+
+// The check itself must reject what a broken pipeline would save: a blank frame and the
+// camera's picture without the overlay.
+TEST(ScreenshotContentTest, RejectsBlankAndVideoOnlyFrames) {
+  const cv::Mat blank(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  EXPECT_LT(Analyse(blank).grey_stddev, 1.0);
+  EXPECT_EQ(Analyse(blank).overlay_pixels, 0);
+
+  FakeClock clock;
+  testpattern::KinematicRobot robot(testpattern::RoomOptions{}, &clock);
+  testpattern::TestPatternCamera camera(&robot, 640, 480, 30, &clock);
+  std::string error;
+  ASSERT_TRUE(camera.Open(&error)) << error;
+  camera::StereoImagePair pair;
+  ASSERT_TRUE(camera.Grab(std::chrono::seconds(1), &pair).ok());
+  // As the client shows it: through JPEG at the server's quality.
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", pair.left, jpeg, {cv::IMWRITE_JPEG_QUALITY, 80}));
+  const cv::Mat video_only = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  const ScreenshotContent content = Analyse(video_only);
+  EXPECT_GT(content.grey_stddev, 10.0);  // the pattern alone is not uniform ...
+  EXPECT_LT(content.overlay_pixels, kMinOverlayShare * 640 * 240);  // ... but has no overlay
+}
 
 class EndToEndTest : public ::testing::Test {
  protected:
@@ -101,8 +161,16 @@ TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
   EXPECT_TRUE(sent_commands.count(acked_sequence)) << acked_sequence;
   // The robot drove forward under the command (0.3 m/s for several seconds).
   EXPECT_GT(max_odom_x_mm, 500u);
-  // The client rendered and saved a frame.
-  EXPECT_FALSE(testing::ReadFile(dir_ + "/client.png").empty());
+  // The client rendered and saved a frame of the camera's size (mono-left, default
+  // calibration 640x480) with the pattern and the AR overlay in it.
+  const cv::Mat screenshot = cv::imread(dir_ + "/client.png", cv::IMREAD_COLOR);
+  ASSERT_FALSE(screenshot.empty()) << "no decodable PNG at " << dir_ << "/client.png";
+  EXPECT_EQ(screenshot.cols, 640);
+  EXPECT_EQ(screenshot.rows, 480);
+  const ScreenshotContent content = Analyse(screenshot);
+  EXPECT_GT(content.grey_stddev, 10.0) << "a uniform frame: no video was drawn";
+  EXPECT_GE(content.overlay_pixels, kMinOverlayShare * screenshot.cols * (screenshot.rows / 2))
+      << "no AR overlay in distance colours in the lower half of " << dir_ << "/client.png";
   const std::string report = testing::ReadFile(dir_ + "/client.log");
   EXPECT_NE(report.find("report: rendered_frames="), std::string::npos);
 }

@@ -16,6 +16,8 @@
 #include <mutex>
 #include <thread>
 
+#include "common/time/fake_clock.h"
+
 namespace mostar::drive {
 namespace {
 
@@ -30,7 +32,7 @@ bool WaitFor(const std::function<bool()>& condition) {
 }
 
 // The board side: answers each SetVelocity and Heartbeat with line noise, an encoder report
-// and a status frame.
+// and a status frame (and echoes heartbeats), unless set silent: then it reads and ignores.
 class BoardEmulator {
  public:
   BoardEmulator() {
@@ -62,6 +64,14 @@ class BoardEmulator {
     std::lock_guard<std::mutex> lock(mutex_);
     fault_flags_ = flags;
   }
+  void set_silent(bool silent) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    silent_ = silent;
+  }
+  int requests_ignored() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return requests_ignored_;
+  }
 
  private:
   void Send(const MotorMessage& m) {
@@ -85,6 +95,10 @@ class BoardEmulator {
         std::string error;
         if (!DecodeMessage(*frame, &m, &error)) continue;
         std::lock_guard<std::mutex> lock(mutex_);
+        if (silent_) {
+          ++requests_ignored_;
+          continue;
+        }
         if (const auto* v = std::get_if<SetVelocityMsg>(&m)) {
           last_set_velocity_ = *v;
           left_ += static_cast<uint32_t>(v->left_ticks_per_s / 10);
@@ -111,6 +125,8 @@ class BoardEmulator {
   std::optional<SetVelocityMsg> last_set_velocity_;
   int stops_ = 0;
   uint16_t fault_flags_ = 0;
+  bool silent_ = false;
+  int requests_ignored_ = 0;
   uint32_t board_time_us_ = 0;
   uint32_t left_ = 0xFFF0;  // near the 16-bit wrap
   uint32_t right_ = 5;
@@ -239,6 +255,54 @@ TEST(SerialDriveMotorsTest, ClampsSetPointsToTheWheelSpeedLimit) {
   EXPECT_EQ(board.last_set_velocity()->left_ticks_per_s, 796);
   EXPECT_EQ(board.last_set_velocity()->right_ticks_per_s, -796);
   EXPECT_FALSE(motors->SetWheelVelocities({std::nan(""), 0}, &error));
+}
+
+// docs/safety.md M3: with the default link timeout (200 ms), a board silent for longer than it
+// takes the link down and encoder readings are refused; the board answering again brings both
+// back. The motors run on a fake clock, so the boundary is exact and the test never sleeps for
+// the timeout; the board still talks over a real pty.
+TEST(SerialDriveMotorsTest, LinkGoesDownAndEncodersAreRefusedWhenTheBoardFallsSilent) {
+  BoardEmulator board;
+  ASSERT_FALSE(board.slave_name().empty());
+  FakeClock clock;
+  SerialDriveMotorsOptions o = OptionsFor(board.slave_name());
+  o.link_timeout = SerialDriveMotorsOptions().link_timeout;
+  ASSERT_EQ(o.link_timeout, std::chrono::milliseconds(200));
+  std::string error;
+  auto motors = SerialDriveMotors::Open(clock, o, &error);
+  ASSERT_NE(motors, nullptr) << error;
+
+  // One heartbeat: the board answers with a report, a status and the echo (3 frames).
+  ASSERT_TRUE(motors->SendHeartbeat(&error)) << error;
+  ASSERT_TRUE(WaitFor([&] { return motors->Status().frames_received == 3; }));
+  EncoderReading reading;
+  ASSERT_TRUE(motors->ReadEncoders(&reading, &error)) << error;
+  EXPECT_TRUE(motors->Status().link_ok);
+
+  // The board falls silent: asked, it no longer answers.
+  board.set_silent(true);
+  ASSERT_TRUE(motors->SendHeartbeat(&error)) << error;
+  ASSERT_TRUE(WaitFor([&] { return board.requests_ignored() == 1; }));
+  clock.Advance(std::chrono::milliseconds(200));
+  EXPECT_TRUE(motors->Status().link_ok) << "down before the timeout";
+  EXPECT_TRUE(motors->ReadEncoders(&reading, &error)) << error;
+  clock.Advance(std::chrono::milliseconds(1));
+  EXPECT_FALSE(motors->Status().link_ok) << "still up 201 ms after the last frame";
+  error.clear();
+  EXPECT_FALSE(motors->ReadEncoders(&reading, &error));
+  EXPECT_NE(error.find("silent"), std::string::npos) << error;
+  clock.Advance(std::chrono::seconds(5));
+  EXPECT_FALSE(motors->Status().link_ok);
+  EXPECT_FALSE(motors->ReadEncoders(&reading, &error));
+  EXPECT_EQ(motors->Status().frames_received, 3u);
+
+  // It answers again: the link and the readings come back, stamped now.
+  board.set_silent(false);
+  ASSERT_TRUE(motors->SendHeartbeat(&error)) << error;
+  ASSERT_TRUE(WaitFor([&] { return motors->Status().frames_received == 6; }));
+  EXPECT_TRUE(motors->Status().link_ok);
+  ASSERT_TRUE(motors->ReadEncoders(&reading, &error)) << error;
+  EXPECT_EQ(reading.steady_stamp, clock.SteadyNow());
 }
 
 }  // namespace

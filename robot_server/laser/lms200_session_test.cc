@@ -33,8 +33,10 @@ Bytes ScanTelegram(uint16_t range_mm) {
   return Reply(payload);
 }
 
-// A minimal scripted LMS200 at a fixed baud: answers the start-up requests and, on
-// "start continuous", queues `scans_per_start` scans and then falls silent.
+// A minimal scripted LMS200: answers the start-up requests and, on "start continuous",
+// queues `scans_per_start` scans and then falls silent. It listens at one baud rate (requests
+// written at another are garbage to it and go unanswered) and moves to the rate a mode-change
+// request asks for after replying at the old one, as the real scanner does.
 class ScriptedDevice {
  public:
   ScriptedDevice(FakeByteStream* stream, int device_baud) : device_baud_(device_baud) {
@@ -45,9 +47,13 @@ class ScriptedDevice {
   int starts = 0;
   int config_writes = 0;
   std::vector<uint8_t> commands;
+  std::vector<int> write_bauds;   // the host's line rate at each request written, answered or not
+  std::vector<int> baud_changes;  // rates the host told the device to move to, in order
+  int device_baud() const { return device_baud_; }
 
  private:
   void OnWrite(const Bytes& w, FakeByteStream* s) {
+    write_bauds.push_back(s->baud_rate());
     if (s->baud_rate() != device_baud_ || w.size() < 5) return;  // wrong rate: garbage
     if (nak_first > 0) {
       --nak_first;
@@ -71,6 +77,14 @@ class ScriptedDevice {
     }
     if (cmd == 0x20) {
       reply = Reply({0xA0, 0x00, 0x10});
+      int new_baud = 0;
+      if (w[5] == kModeBaud38400) new_baud = 38400;
+      if (w[5] == kModeBaud19200) new_baud = 19200;
+      if (w[5] == kModeBaud9600) new_baud = 9600;
+      if (new_baud != 0) {
+        device_baud_ = new_baud;
+        baud_changes.push_back(new_baud);
+      }  // the reply above still goes out at the old rate
     } else if (cmd == 0x3A) {
       reply = Reply({0xBA, 'L', 'M', 'S', '2', '0', '0', 0x10});
     } else if (cmd == 0x74) {
@@ -182,16 +196,28 @@ TEST(Lms200SessionTest, KeepsReopeningAMissingPortAndRecovers) {
 
 TEST(Lms200SessionTest, DetectsBaudByProbingAndSwitchesToConfiguredRate) {
   Fixture f;
-  // The device sits at 19200; the scripted device does not switch, so the configured rate is
-  // the device's and only detection is exercised.
-  f.config.set_baud(19200);
+  // Configured for 38400; the device sits at 19200, the last rate the session probes.
+  ASSERT_EQ(f.config.baud(), 38400);
   ScriptedDevice device(&f.stream, 19200);
   Lms200Session session(&f.stream, &f.clock, f.config, f.options);
   for (int i = 0; i < 10 && f.scans.empty(); ++i) {
     session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
   }
   EXPECT_FALSE(f.scans.empty());
-  EXPECT_EQ(f.stream.baud_rate(), 19200);
+  // Probed 38400 (the last good rate, i.e. the configured one) and 9600 without an answer,
+  // found the device at 19200, told it to move and followed it to the configured rate.
+  std::vector<int> probe_bauds;
+  for (int baud : device.write_bauds) {
+    if (probe_bauds.empty() || probe_bauds.back() != baud) probe_bauds.push_back(baud);
+  }
+  EXPECT_EQ(probe_bauds, (std::vector<int>{38400, 9600, 19200, 38400}));
+  ASSERT_FALSE(device.commands.empty());
+  EXPECT_EQ(device.commands[0], 0x20);  // "stop streaming": the probe that 19200 answered
+  EXPECT_EQ(device.baud_changes, (std::vector<int>{38400}));
+  EXPECT_EQ(device.device_baud(), 38400);
+  EXPECT_EQ(f.stream.baud_rate(), 38400);
+  EXPECT_EQ(Counter(session.Health(), "baud_switches"), 1u);
+  EXPECT_EQ(session.state(), Lms200Session::State::kStreaming);
 }
 
 TEST(Lms200SessionTest, ValidatesConfiguration) {

@@ -1,4 +1,4 @@
-#include "operator_client/vision/sim_calibration.h"
+#include "tests/vision/sim_calibration.h"
 
 #include <cstdlib>
 #include <limits>

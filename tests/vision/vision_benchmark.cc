@@ -7,9 +7,9 @@
 
 #include <stdexcept>
 
-#include "operator_client/vision/sim_calibration.h"
 #include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/sim/sim_world.h"
+#include "tests/vision/sim_calibration.h"
 
 namespace mostar::vision {
 namespace {
