@@ -51,7 +51,6 @@ void main() { color = v_color; }
 }  // namespace
 
 EyeRenderer::~EyeRenderer() {
-  if (image_texture_) glDeleteTextures(1, &image_texture_);
   if (color_texture_) glDeleteTextures(1, &color_texture_);
   if (depth_buffer_) glDeleteRenderbuffers(1, &depth_buffer_);
   if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
@@ -64,12 +63,6 @@ EyeRenderer::~EyeRenderer() {
 bool EyeRenderer::Init(std::string* error) {
   if (!image_program_.Build(kImageVertex, kImageFragment, error)) return false;
   if (!overlay_program_.Build(kOverlayVertex, kOverlayFragment, error)) return false;
-  glGenTextures(1, &image_texture_);
-  glBindTexture(GL_TEXTURE_2D, image_texture_);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glGenVertexArrays(1, &quad_vao_);
   glGenVertexArrays(1, &overlay_vao_);
   glGenBuffers(1, &position_vbo_);
@@ -143,16 +136,9 @@ void EyeRenderer::Render(const cv::Mat& image, const Eigen::Matrix4f& projection
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   image_program_.Use();
-  if (!image.empty()) {
-    glBindTexture(GL_TEXTURE_2D, image_texture_);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, static_cast<GLint>(image.step / image.elemSize()));
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, image.cols, image.rows, 0, GL_BGR, GL_UNSIGNED_BYTE,
-                 image.data);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  }
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, image_texture_);
+  image_texture_.Upload(image);  // no-op when empty
+  glBindTexture(GL_TEXTURE_2D, image_texture_.id());
   glUniform1i(image_program_.Uniform("u_image"), 0);
   glUniform1i(image_program_.Uniform("u_has_image"), image.empty() ? 0 : 1);
   glUniform2f(image_program_.Uniform("u_offset_ndc"), offset_x, offset_y);

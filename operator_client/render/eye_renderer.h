@@ -14,6 +14,7 @@
 
 #include "operator_client/fusion/vertex_array.h"
 #include "operator_client/render/gl_program.h"
+#include "operator_client/render/texture.h"
 
 namespace mostar::render {
 
@@ -59,7 +60,7 @@ class EyeRenderer {
 
   GlProgram image_program_;
   GlProgram overlay_program_;
-  GLuint image_texture_ = 0;
+  Texture image_texture_;
   GLuint quad_vao_ = 0;
   GLuint overlay_vao_ = 0;
   GLuint position_vbo_ = 0;

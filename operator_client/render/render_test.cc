@@ -11,6 +11,7 @@
 #include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
 #include "operator_client/render/stereo_compositor.h"
+#include "operator_client/render/texture.h"
 #include "operator_client/ui/window.h"
 
 namespace mostar::render {
@@ -187,6 +188,63 @@ TEST_F(RenderTest, AlignmentShiftsAndCrops) {
   const cv::Mat out = ReadEye(eyes_[0]);
   EXPECT_LT(out.at<cv::Vec3b>(240, 10)[0], 15);   // cropped
   EXPECT_GT(out.at<cv::Vec3b>(240, 30)[0], 240);  // shifted image
+}
+
+// The texture's level 0 as `format` (GL_BGR or GL_RED), rows as uploaded.
+cv::Mat ReadTexture(const Texture& texture, int type, unsigned format) {
+  cv::Mat out(texture.height(), texture.width(), type);
+  glBindTexture(GL_TEXTURE_2D, texture.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTexImage(GL_TEXTURE_2D, 0, format, GL_UNSIGNED_BYTE, out.data);
+  return out;
+}
+
+bool Identical(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
+}
+
+TEST_F(RenderTest, TextureUploadsColourImagesInBgrOrder) {
+  // An odd width in an ROI: rows neither 4-byte aligned nor contiguous.
+  cv::Mat big(60, 90, CV_8UC3);
+  cv::randu(big, cv::Scalar::all(0), cv::Scalar::all(256));
+  const cv::Mat image = big(cv::Rect(3, 5, 37, 21));
+  Texture texture;
+  EXPECT_EQ(texture.id(), 0u);
+  texture.Upload(image);
+  ASSERT_NE(texture.id(), 0u);
+  EXPECT_EQ(texture.width(), 37);
+  EXPECT_EQ(texture.height(), 21);
+  EXPECT_TRUE(Identical(ReadTexture(texture, CV_8UC3, GL_BGR), image));
+}
+
+TEST_F(RenderTest, TextureUploadsGreyImagesAndReusesItsName) {
+  cv::Mat big(40, 50, CV_8UC1);
+  cv::randu(big, cv::Scalar::all(0), cv::Scalar::all(256));
+  const cv::Mat grey = big(cv::Rect(1, 2, 33, 17));
+  Texture texture;
+  texture.Upload(cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3)));
+  const unsigned id = texture.id();
+  texture.Upload(grey);
+  EXPECT_EQ(texture.id(), id);
+  EXPECT_EQ(texture.width(), 33);
+  EXPECT_TRUE(Identical(ReadTexture(texture, CV_8UC1, GL_RED), grey));
+  // Sampled as grey: every colour channel reads the red one.
+  GLint swizzle[4] = {};
+  glGetTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, swizzle);
+  EXPECT_EQ(swizzle[0], GL_RED);
+  EXPECT_EQ(swizzle[1], GL_RED);
+  EXPECT_EQ(swizzle[2], GL_RED);
+  EXPECT_EQ(swizzle[3], GL_ONE);
+}
+
+TEST_F(RenderTest, TextureMoveHandsOverTheName) {
+  Texture a;
+  a.Upload(cv::Mat(4, 4, CV_8UC3, cv::Scalar(9, 9, 9)));
+  const unsigned id = a.id();
+  Texture b(std::move(a));
+  EXPECT_EQ(b.id(), id);
+  EXPECT_EQ(a.id(), 0u);  // NOLINT(bugprone-use-after-move): moved-from state is specified
+  EXPECT_TRUE(glIsTexture(id));
 }
 
 TEST(DisplayModeTest, NamesRoundTrip) {

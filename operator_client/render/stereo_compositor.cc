@@ -1,7 +1,6 @@
 #include "operator_client/render/stereo_compositor.h"
 
-#include <map>
-
+#include "operator_client/render/eye_viewports.h"
 #include "operator_client/render/gl.h"
 
 namespace mostar::render {
@@ -41,37 +40,7 @@ void main() {
 }
 )";
 
-const std::map<std::string, DisplayMode>& Names() {
-  static const std::map<std::string, DisplayMode> names = {
-      {"mono-left", DisplayMode::kMonoLeft},     {"mono-right", DisplayMode::kMonoRight},
-      {"anaglyph", DisplayMode::kAnaglyphGrey},  {"anaglyph-color", DisplayMode::kAnaglyphColor},
-      {"sbs", DisplayMode::kSideBySideFull},     {"sbs-half", DisplayMode::kSideBySideHalf},
-      {"top-bottom", DisplayMode::kTopBottom},   {"interlaced", DisplayMode::kRowInterlaced},
-      {"quad-buffer", DisplayMode::kQuadBuffer},
-  };
-  return names;
-}
-
 }  // namespace
-
-const char* DisplayModeName(DisplayMode mode) {
-  for (const auto& [name, m] : Names()) {
-    if (m == mode) return name.c_str();
-  }
-  return "?";
-}
-
-bool ParseDisplayMode(const std::string& text, DisplayMode* mode) {
-  const auto it = Names().find(text);
-  if (it == Names().end()) return false;
-  *mode = it->second;
-  return true;
-}
-
-void WindowSizeFor(DisplayMode mode, int eye_width, int eye_height, int* width, int* height) {
-  *width = mode == DisplayMode::kSideBySideFull ? 2 * eye_width : eye_width;
-  *height = eye_height;
-}
 
 bool StereoCompositor::Init(std::string* error) {
   if (!program_.Build(kVertex, kFragment, error)) return false;
@@ -114,41 +83,27 @@ void StereoCompositor::Compose(DisplayMode mode, unsigned left_texture, unsigned
     glDrawBuffer(GL_BACK);
     glClear(GL_COLOR_BUFFER_BIT);
   }
-  switch (mode) {
-    case DisplayMode::kMonoLeft:
-      DrawQuad(left_texture, right_texture, 0, 0, 0, w, h, h);
-      break;
-    case DisplayMode::kMonoRight:
-      DrawQuad(left_texture, right_texture, 1, 0, 0, w, h, h);
-      break;
-    case DisplayMode::kAnaglyphGrey:
-      DrawQuad(left_texture, right_texture, 2, 0, 0, w, h, h);
-      break;
-    case DisplayMode::kAnaglyphColor:
-      DrawQuad(left_texture, right_texture, 3, 0, 0, w, h, h);
-      break;
-    case DisplayMode::kSideBySideFull:
-    case DisplayMode::kSideBySideHalf:
-      DrawQuad(left_texture, right_texture, 0, 0, 0, w / 2, h, h);
-      DrawQuad(left_texture, right_texture, 1, w / 2, 0, w - w / 2, h, h);
-      break;
-    case DisplayMode::kTopBottom:
-      DrawQuad(left_texture, right_texture, 0, 0, h - h / 2, w, h / 2, h);
-      DrawQuad(left_texture, right_texture, 1, 0, 0, w, h - h / 2, h);
-      break;
-    case DisplayMode::kRowInterlaced:
-      DrawQuad(left_texture, right_texture, 4, 0, 0, w, h, h);
-      break;
-    case DisplayMode::kQuadBuffer:
-      glDrawBuffer(GL_BACK_LEFT);
-      glClear(GL_COLOR_BUFFER_BIT);
-      DrawQuad(left_texture, right_texture, 0, 0, 0, w, h, h);
-      glDrawBuffer(GL_BACK_RIGHT);
-      glClear(GL_COLOR_BUFFER_BIT);
-      DrawQuad(left_texture, right_texture, 1, 0, 0, w, h, h);
-      glDrawBuffer(GL_BACK);
-      break;
+  // Shader mode of a single quad showing both eyes; -1 for modes that draw each eye apart.
+  int blend_mode = -1;
+  if (mode == DisplayMode::kAnaglyphGrey) blend_mode = 2;
+  if (mode == DisplayMode::kAnaglyphColor) blend_mode = 3;
+  if (mode == DisplayMode::kRowInterlaced) blend_mode = 4;
+  const std::vector<EyeViewport> viewports = EyeViewports(mode, w, h);
+  if (blend_mode >= 0) {
+    const EyeViewport& v = viewports.front();
+    DrawQuad(left_texture, right_texture, blend_mode, v.x_px, v.GlY(h), v.width_px, v.height_px, h);
+    return;
   }
+  for (const EyeViewport& v : viewports) {
+    const bool left = v.eye == math::Eye::kLeft;
+    if (mode == DisplayMode::kQuadBuffer) {
+      glDrawBuffer(left ? GL_BACK_LEFT : GL_BACK_RIGHT);
+      glClear(GL_COLOR_BUFFER_BIT);
+    }
+    DrawQuad(left_texture, right_texture, left ? 0 : 1, v.x_px, v.GlY(h), v.width_px, v.height_px,
+             h);
+  }
+  if (mode == DisplayMode::kQuadBuffer) glDrawBuffer(GL_BACK);
 }
 
 }  // namespace mostar::render

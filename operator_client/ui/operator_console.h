@@ -1,12 +1,13 @@
 // The operator console: one render loop that shows the latest stereo pair with the AR overlay
 // built from the scan nearest in time, the HUD, the bird's-eye laser map, the calibration and
-// display panels, and turns keyboard/gamepad input into drive requests.
+// display panels, and turns keyboard/gamepad input into drive requests. It wires the pure
+// parts (LeaseClient, IntrinsicsAdopter, FramePicker, PairCapture, ArBuilderCache) to the
+// devices, the renderer and the panels (ui/panels).
 //
 // Render thread only. It never waits on the network or on JPEG decoding: it takes the latest
 // decoded pair from StereoReceiver and the latest robot state from RobotState.
 #pragma once
 
-#include <map>
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
@@ -14,14 +15,20 @@
 #include <vector>
 
 #include "common/math/camera_model.h"
-#include "operator_client/fusion/ar_features.h"
 #include "operator_client/fusion/predicted_path.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/render/eye_renderer.h"
 #include "operator_client/render/stereo_compositor.h"
+#include "operator_client/ui/ar_builder_cache.h"
 #include "operator_client/ui/command_sender.h"
+#include "operator_client/ui/console_input.h"
 #include "operator_client/ui/drive_input.h"
+#include "operator_client/ui/frame_picker.h"
 #include "operator_client/ui/imgui_layer.h"
+#include "operator_client/ui/intrinsics_adoption.h"
+#include "operator_client/ui/lease_client.h"
+#include "operator_client/ui/pair_capture.h"
+#include "operator_client/ui/panels/edge_view_panel.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/video/stereo_receiver.h"
 #include "operator_client/vision/edge_worker.h"
@@ -70,43 +77,32 @@ class OperatorConsole {
   double DisplayAgePercentileMs(double percentile) const;
   double FrameTimePercentileMs(double percentile) const;
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
-  // The console first waits to hold the lease, then arms (deadman up for 0.5 s), then drives.
+  // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
 
-  // Deterministic screenshot of one pair (--capture-stamp, --capture-after). From this call on
-  // only one pair is shown: the pair stamped `stamp`, or with nullopt the next new pair decoded
-  // after the call. It is shown once a scan stamped at or after it has arrived (so its nearest
-  // scan is settled; at most kCaptureScanWait later) and, with edge processing, once its edge
-  // result is in; after kCaptureRenders renders of it (ImGui windows settle) captured() is true
-  // and last_frame() holds it. What arrives when no longer matters, so a replay of the session
-  // renders the same picture as the live session did.
-  static constexpr int kCaptureRenders = 3;
-  static constexpr Duration kCaptureScanWait = std::chrono::seconds(2);
+  // Deterministic screenshot of one pair (--capture-stamp, --capture-after; see PairCapture):
+  // from this call on only the pair stamped `stamp` is shown, or with nullopt the next new pair
+  // decoded after the call; once it has been rendered with its scans and edge result in,
+  // captured() is true and last_frame() holds it.
   void CapturePair(std::optional<Time> stamp);
   bool capturing() const { return capture_.has_value(); }
-  bool captured() const { return capture_ && capture_->done; }
+  bool captured() const { return capture_ && capture_->done(); }
   // Capture stamp of the captured (or latched) pair.
   std::optional<Time> captured_stamp() const;
 
  private:
   void HandleInput();
+  void Send(ControlRequest request);
+  void AdoptRobotIntrinsics(const client::RobotSnapshot& robot);
+  // While capturing: the captured pair once it may be shown, else nothing.
+  std::optional<client::DecodedStereoPair> CaptureFilter(
+      const std::optional<client::DecodedStereoPair>& latest);
+  // Hands the new pair to the edge worker and picks the pair (and result) to display.
+  void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
   void BuildOverlay(const std::optional<LaserScan>& scan, render::OverlayGeometry* overlay,
                     fusion::ArFeatures* features);
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,
                   const std::optional<client::DecodedStereoPair>& pair, int fb_w, int fb_h);
-  void DrawHud(const client::RobotSnapshot& robot,
-               const std::optional<client::DecodedStereoPair>& pair);
-  void DrawMap(const client::RobotSnapshot& robot, const fusion::ArFeatures& features);
-  void DrawLabels(const fusion::ArFeatures& features, int fb_w, int fb_h);
-  void DrawCalibrationPanel();
-  void DrawEdgeView();
-  void DrawHelp();
-  // Hands the new pair to the edge worker; returns the pair (and its result) to display now.
-  void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
-  // While capturing: the captured pair once it may be shown, else nothing.
-  std::optional<client::DecodedStereoPair> CaptureFilter(
-      const std::optional<client::DecodedStereoPair>& latest);
-  unsigned UploadTexture(const cv::Mat& image, unsigned texture);
 
   ConsoleOptions options_;
   Window* window_;
@@ -117,32 +113,25 @@ class OperatorConsole {
   std::unique_ptr<ImGuiLayer> imgui_;
   render::EyeRenderer eyes_[2];
   render::StereoCompositor compositor_;
-  std::optional<fusion::ArFeatureBuilder> builder_;
+  std::optional<ArBuilderCache> ar_builders_;  // from Init()
+  ConsoleKeys keys_;
   DriveMapper mapper_;
   std::optional<DriveOutput> scripted_drive_;
   DriveOutput drive_;
-  void ManageLease(const client::RobotSnapshot& robot);
-  void ApplyRobotIntrinsics(const client::RobotSnapshot& robot);
-  std::optional<CameraIntrinsicsInfo> applied_intrinsics_;
+  LeaseClient lease_;
+  IntrinsicsAdopter intrinsics_;
 
   std::unique_ptr<vision::EdgeWorker> edge_worker_;
+  // Camera models shared with the edge worker (its ray cache) until the calibration changes.
   std::shared_ptr<const math::CameraModel> left_model_;
   std::shared_ptr<const math::CameraModel> right_model_;
   math::LaserCameraCalibration models_calibration_;
-  uint64_t submitted_pair_ = 0;
-  std::map<uint64_t, client::DecodedStereoPair> in_flight_;   // submitted, awaiting a result
-  std::optional<client::DecodedStereoPair> shown_pair_;       // what is displayed
-  std::shared_ptr<const vision::VisionResult> shown_result_;  // its edge result, if any
-  uint64_t result_sequence_ = 0;  // pair of the last edge result (ok or not)
-  bool show_edge_view_ = false;
-  unsigned edge_textures_[2] = {0, 0};
+  FramePicker picker_;
+  std::optional<PairCapture> capture_;
 
+  EdgeViewPanel edge_view_;
+  bool show_edge_view_ = false;
   bool show_help_ = false;
-  bool want_control_ = false;  // pilots ask for the lease until they hold it
-  bool holding_lease_ = false;
-  SteadyTime next_control_request_;
-  std::optional<SteadyTime> holding_since_;
-  bool rays_while_calibrating_saved_ = true;
   std::string status_line_;
   uint64_t last_pair_ = 0;
   uint64_t rendered_pairs_ = 0;
@@ -151,18 +140,6 @@ class OperatorConsole {
   std::vector<double> display_ages_ms_;  // per shown pair
   std::vector<double> frame_times_ms_;   // per frame that showed a new pair
   double display_age_ms_ = 0;
-  SteadyTime last_frame_start_;
-
-  struct Capture {
-    std::optional<Time> stamp;    // the pair to capture; nullopt: the next new one
-    uint64_t after_sequence = 0;  // with nullopt: decoded pairs up to this one are not it
-    std::optional<client::DecodedStereoPair> pair;  // latched
-    SteadyTime latched_at;
-    bool ready = false;  // its scans have arrived: it may be shown
-    int renders = 0;     // renders of it with everything in
-    bool done = false;
-  };
-  std::optional<Capture> capture_;
 };
 
 }  // namespace mostar::ui

@@ -1,0 +1,35 @@
+#include "operator_client/ui/frame_picker.h"
+
+#include <iterator>
+
+namespace mostar::ui {
+
+void FramePicker::ShowUnprocessed(const std::optional<client::DecodedStereoPair>& latest) {
+  shown_pair_ = latest;
+  shown_result_.reset();
+  in_flight_.clear();
+}
+
+bool FramePicker::TakeNew(const std::optional<client::DecodedStereoPair>& latest) {
+  if (!latest || latest->sequence == submitted_) return false;
+  submitted_ = latest->sequence;
+  in_flight_[latest->sequence] = *latest;
+  while (in_flight_.size() > kMaxInFlight) in_flight_.erase(in_flight_.begin());
+  return true;
+}
+
+void FramePicker::OnResult(const std::shared_ptr<const vision::VisionResult>& result,
+                           const std::optional<client::DecodedStereoPair>& latest) {
+  if (result) {
+    const auto it = in_flight_.find(result->sequence);
+    if (it != in_flight_.end()) {
+      shown_pair_ = it->second;
+      shown_result_ = result->ok ? result : nullptr;
+      result_sequence_ = result->sequence;
+      in_flight_.erase(in_flight_.begin(), std::next(it));
+    }
+  }
+  if (!shown_pair_) shown_pair_ = latest;  // nothing processed yet
+}
+
+}  // namespace mostar::ui

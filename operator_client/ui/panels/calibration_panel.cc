@@ -1,0 +1,149 @@
+#include "operator_client/ui/panels/calibration_panel.h"
+
+#include <imgui.h>
+
+#include <cmath>
+
+#include "common/math/calibration_io.h"
+
+namespace mostar::ui {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+// The calibration sliders: a valid edit replaces *c, an invalid one is reported.
+void DrawCalibrationSliders(math::LaserCameraCalibration* c, std::string* status_line) {
+  math::LaserCameraCalibration edit = *c;
+  float focal = static_cast<float>(edit.focal_px);
+  float y = static_cast<float>(edit.camera_y_m);
+  float tilt_deg = static_cast<float>(edit.tilt_rad * kRadToDeg);
+  float z = static_cast<float>(edit.camera_z_m);
+  float x = static_cast<float>(edit.camera_x_m);
+  float pan_deg = static_cast<float>(edit.pan_rad * kRadToDeg);
+  float roll_deg = static_cast<float>(edit.roll_rad * kRadToDeg);
+  float baseline = static_cast<float>(edit.baseline_m());
+  float laser_h = static_cast<float>(edit.laser_height_m);
+  bool changed = false;
+  changed |= ImGui::SliderFloat("1 focal [px]", &focal, 150, 2000, "%.1f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Scales the overlay: match far walls first.");
+  changed |= ImGui::SliderFloat("2 camera y [m]", &y, -0.5f, 2.0f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Height above the scan plane: moves floor rays.");
+  changed |= ImGui::SliderFloat("2 tilt [deg]", &tilt_deg, -45, 45, "%.2f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Down is positive: moves the overlay vertically.");
+  changed |= ImGui::SliderFloat("3 camera z [m]", &z, -1.0f, 1.0f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Ahead of the laser: matters on near objects.");
+  changed |= ImGui::SliderFloat("4 camera x [m]", &x, -0.5f, 0.5f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Right of the laser: shifts sideways.");
+  changed |= ImGui::SliderFloat("pan [deg]", &pan_deg, -20, 20, "%.2f");
+  changed |= ImGui::SliderFloat("roll [deg]", &roll_deg, -10, 10, "%.2f");
+  changed |= ImGui::SliderFloat("baseline [m]", &baseline, 0.0f, 0.3f, "%.3f");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Distance between the eyes (5-20 cm).");
+  changed |= ImGui::SliderFloat("laser height [m]", &laser_h, 0.05f, 1.5f, "%.3f");
+  if (!changed) return;
+  edit.focal_px = focal;
+  edit.camera_y_m = y;
+  edit.tilt_rad = tilt_deg / kRadToDeg;
+  edit.camera_z_m = z;
+  edit.camera_x_m = x;
+  edit.pan_rad = pan_deg / kRadToDeg;
+  edit.roll_rad = roll_deg / kRadToDeg;
+  edit.left_eye_x_offset_m = -baseline / 2;
+  edit.right_eye_x_offset_m = baseline / 2;
+  edit.laser_height_m = laser_h;
+  std::string error;
+  if (edit.IsValid(&error)) {
+    *c = edit;
+  } else {
+    *status_line = "calibration: " + error;
+  }
+}
+
+void DrawProfileButtons(const std::string& profile_path, math::LaserCameraCalibration* c,
+                        std::string* status_line) {
+  const std::string path = profile_path.empty() ? "calibration_profile.pbtxt" : profile_path;
+  if (ImGui::Button("Save")) {
+    std::string error;
+    *status_line = math::SaveCalibrationProfile(path, *c, "operator", &error)
+                       ? "saved " + path
+                       : "save failed: " + error;
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Load")) {
+    std::string error;
+    math::LaserCameraCalibration loaded;
+    if (math::LoadCalibrationProfile(path, &loaded, &error)) {
+      *c = loaded;
+      *status_line = "loaded " + path;
+    } else {
+      *status_line = "load failed: " + error;
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Reset")) *c = math::LaserCameraCalibration{};
+}
+
+void DrawArSwitches(fusion::ArFeatureOptions* ar) {
+  ImGui::Text("AR features");
+  ImGui::Checkbox("walls", &ar->walls_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("rays", &ar->rays_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("lines", &ar->vertical_lines_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("circles", &ar->circles_enabled);
+  ImGui::SameLine();
+  ImGui::Checkbox("labels", &ar->labels_enabled);
+  ImGui::SliderFloat("red below [m]", &ar->min_distance_m, 0.1f, 3.0f, "%.2f");
+  ImGui::SliderFloat("green above [m]", &ar->max_distance_m, ar->min_distance_m + 0.1f, 8.0f,
+                     "%.2f");
+  ImGui::SliderFloat("slopeTh", &ar->segmentation.slope_threshold, 0.005f, 0.5f, "%.3f");
+}
+
+void DrawStereoAlignment(render::EyeAlignment* left, render::EyeAlignment* right) {
+  ImGui::Text("Stereo alignment (right eye image offset, px)");
+  ImGui::SliderFloat("dx", &right->offset_x_px, -40, 40, "%.1f");
+  ImGui::SliderFloat("dy", &right->offset_y_px, -40, 40, "%.1f");
+  // Crop the borders without correspondence in both eyes.
+  const float dx = right->offset_x_px;
+  const float dy = right->offset_y_px;
+  for (render::EyeAlignment* a : {left, right}) {
+    a->crop_left_px = dx > 0 ? dx : 0;
+    a->crop_right_px = dx < 0 ? -dx : 0;
+    a->crop_top_px = dy > 0 ? dy : 0;
+    a->crop_bottom_px = dy < 0 ? -dy : 0;
+  }
+}
+
+void DrawDisplayMode(render::DisplayMode* mode) {
+  int mode_index = 0;
+  const char* names[render::kDisplayModeCount];
+  for (int i = 0; i < render::kDisplayModeCount; ++i) {
+    if (render::kDisplayModes[i] == *mode) mode_index = i;
+    names[i] = render::DisplayModeName(render::kDisplayModes[i]);
+  }
+  if (ImGui::Combo("display", &mode_index, names, render::kDisplayModeCount)) {
+    *mode = render::kDisplayModes[mode_index];
+  }
+}
+
+}  // namespace
+
+void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPanelTargets& edit) {
+  ImGui::SetNextWindowPos(ImVec2(8, 190), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Calibration", edit.open);
+  ImGui::TextWrapped(
+      "Order: 1 focal on far objects, 2 y and tilt on the floor, 3 z on near objects, "
+      "4 x last. Rays and lines are shown while this panel is open.");
+  DrawCalibrationSliders(edit.calibration, edit.status_line);
+  DrawProfileButtons(profile_path, edit.calibration, edit.status_line);
+  ImGui::Separator();
+  DrawArSwitches(edit.ar);
+  ImGui::Separator();
+  DrawStereoAlignment(edit.left_alignment, edit.right_alignment);
+  DrawDisplayMode(edit.mode);
+  ImGui::End();
+}
+
+}  // namespace mostar::ui

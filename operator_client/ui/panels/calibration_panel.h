@@ -1,0 +1,31 @@
+// The calibration and AR panel (C): laser-camera calibration sliders in the thesis' order,
+// save/load/reset of the profile, AR feature switches and colour thresholds, the stereo
+// alignment of the right eye and the display mode. Edits go straight into the caller's
+// values; a calibration edit that would be invalid is refused (status line). ImGui; render
+// thread.
+#pragma once
+
+#include <string>
+
+#include "common/math/camera_model.h"
+#include "operator_client/fusion/ar_features.h"
+#include "operator_client/render/display_mode.h"
+#include "operator_client/render/eye_renderer.h"
+
+namespace mostar::ui {
+
+// What the panel edits; every pointer non-null and owned by the caller.
+struct CalibrationPanelTargets {
+  bool* open;  // cleared when the operator closes the panel
+  math::LaserCameraCalibration* calibration;
+  fusion::ArFeatureOptions* ar;
+  render::EyeAlignment* left_alignment;   // crop follows the right eye's offset
+  render::EyeAlignment* right_alignment;  // offset edited here
+  render::DisplayMode* mode;
+  std::string* status_line;  // outcome of save/load, refused edits
+};
+
+// `profile_path`: where Save writes and Load reads (empty: calibration_profile.pbtxt).
+void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPanelTargets& edit);
+
+}  // namespace mostar::ui

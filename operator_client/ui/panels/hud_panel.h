@@ -1,0 +1,33 @@
+// The heads-up display (top left): video and scan rates, display age, link health, the pilot
+// and watchdog, device problems, the drive command and the status line. ImGui; render thread.
+#pragma once
+
+#include <string>
+
+#include "common/time/time.h"
+#include "operator_client/net/robot_state.h"
+#include "operator_client/render/display_mode.h"
+#include "operator_client/ui/drive_input.h"
+#include "operator_client/video/stereo_receiver.h"
+
+namespace mostar::ui {
+
+// The console's own state the HUD shows.
+struct HudStatus {
+  bool has_pair = false;      // a pair is on screen
+  SteadyTime pair_received;   // when it became complete here
+  double display_age_ms = 0;  // capture-to-display age of the last new pair
+  double frame_time_ms = 0;   // render time of the last frame
+  render::DisplayMode mode = render::DisplayMode::kMonoLeft;
+  std::string client_id;
+  bool pilot = false;
+  DriveOutput drive;        // the command being sent
+  double drive_scale = 1;   // [0.1, 1]
+  std::string status_line;  // may be empty
+};
+
+// `now`: steady time, for the ages of the last samples.
+void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStats& video,
+                  const HudStatus& status, SteadyTime now);
+
+}  // namespace mostar::ui
