@@ -34,6 +34,14 @@ endfunction()
 
 # mostar_test(<name> SOURCES ... DEPS ... [LABELS ...]): a GoogleTest executable registered
 # with CTest. Each test process gets its own DDS domain id (see common/dds/domain.h).
+# Labels:
+#   e2e, timing  real programs in other processes, with timing expectations: RUN_SERIAL, so that
+#                they never share the cores with another test (the 60 s fuzzer included)
+#   gl           needs an X display (Xvfb)
+#   concurrency  threads meeting (camera pipeline, edge worker, DDS callbacks, outbox): the
+#                thread-sanitizer build runs these (target concurrency_tests, ctest -L concurrency)
+# Every other test is labelled "unit": in-process, no display; the address-sanitizer build runs
+# them (target unit_tests, ctest -L unit).
 function(mostar_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
@@ -44,10 +52,30 @@ function(mostar_test name)
   target_compile_definitions(${name} PRIVATE MOSTAR_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     MOSTAR_TEST_BINARY_DIR="${PROJECT_BINARY_DIR}")
   set(properties TIMEOUT 300 ENVIRONMENT "MOSTAR_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
-  if(ARG_LABELS)
-    list(APPEND properties LABELS "${ARG_LABELS}")
+  set(labels ${ARG_LABELS})
+  if(NOT "e2e" IN_LIST labels AND NOT "timing" IN_LIST labels AND NOT "gl" IN_LIST labels)
+    list(APPEND labels unit)
+    set_property(GLOBAL APPEND PROPERTY MOSTAR_UNIT_TEST_TARGETS ${name})
   endif()
+  if("concurrency" IN_LIST labels)
+    set_property(GLOBAL APPEND PROPERTY MOSTAR_CONCURRENCY_TEST_TARGETS ${name})
+  endif()
+  if("e2e" IN_LIST labels OR "timing" IN_LIST labels)
+    list(APPEND properties RUN_SERIAL TRUE)
+  endif()
+  list(APPEND properties LABELS "${labels}")
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES ${properties})
+endfunction()
+
+# Targets that build the tests of one kind (for the sanitizer builds): unit_tests and
+# concurrency_tests. Call once, after every folder was added.
+function(mostar_test_groups)
+  get_property(unit GLOBAL PROPERTY MOSTAR_UNIT_TEST_TARGETS)
+  get_property(concurrency GLOBAL PROPERTY MOSTAR_CONCURRENCY_TEST_TARGETS)
+  add_custom_target(unit_tests)
+  add_dependencies(unit_tests ${unit})
+  add_custom_target(concurrency_tests)
+  add_dependencies(concurrency_tests ${concurrency})
 endfunction()
 
 # mostar_benchmark(<name> SOURCES ... DEPS ...): a Google Benchmark executable (not a test).

@@ -2,18 +2,19 @@
 // drives the robot. Wiring only: flags and configuration choose the pieces and connect them.
 #include <CLI/CLI.hpp>
 #include <atomic>
-#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
 #include "common/config/config_loader.h"
+#include "common/config/config_paths.h"
 #include "common/dds/domain.h"
 #include "common/dds/participant.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/math/calibration_io.h"
+#include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
 #include "operator_client/client_config.pb.h"
 #include "operator_client/net/operator_node.h"
@@ -28,20 +29,11 @@
 namespace mostar::client {
 namespace {
 
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop = true; }
-
-std::string DirectoryOf(const std::string& path) {
-  const size_t slash = path.rfind('/');
-  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
-}
-
 // Client configuration -> console options; false with a message naming the key.
 bool ApplyConfig(const ClientConfig& config, const std::string& config_dir,
                  ui::ConsoleOptions* options, std::string* error) {
   if (config.has_calibration_profile()) {
-    std::string path = config.calibration_profile();
-    if (!path.empty() && path[0] != '/') path = config_dir + "/" + path;
+    const std::string path = ResolveRelativeTo(config.calibration_profile(), config_dir);
     if (!math::LoadCalibrationProfile(path, &options->calibration, error)) return false;
     options->calibration_path = path;
   }
@@ -301,10 +293,9 @@ int Run(int argc, char** argv) {
                    << dds_options.domain_id << ", " << window->renderer() << ", display "
                    << render::DisplayModeName(console_options.mode);
   commands.Start();
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  InstallStopSignals();
   const SteadyTime start = clock->SteadyNow();
-  while (!g_stop && !window->ShouldClose()) {
+  while (!StopRequested() && !window->ShouldClose()) {
     if (capture_after >= 0 && !console.capturing() &&
         video.Stats().pairs_decoded >= static_cast<uint64_t>(capture_after)) {
       console.CapturePair(std::nullopt);

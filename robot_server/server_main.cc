@@ -192,8 +192,10 @@ int Run(int argc, char** argv) {
     const SteadyTime now = clock->SteadyNow();
     service.Alive(now);  // systemd's watchdog: restarts robot_server if this loop stalls
     if (controller.Step(now) == StepResult::kWriteStalled) {
-      MOSTAR_LOG(ERROR) << "exiting with status 3 so that the service manager restarts "
-                           "robot_server";
+      MOSTAR_LOG(ERROR) << "a DDS write has been blocked for more than "
+                        << config.dds().write_stall_exit_s()
+                        << " s (DDS deadlock?): robot stopped, exiting with status 3 so that the "
+                           "service manager restarts robot_server";
       trace.Flush();
       controller.SetRecorder(nullptr);
       if (recorder) recorder->Close(&error);

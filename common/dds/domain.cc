@@ -1,8 +1,12 @@
 #include "common/dds/domain.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cstdlib>
+#include <optional>
+#include <string>
 
 namespace mostar::dds {
 
@@ -15,6 +19,26 @@ int DomainIdFromEnvironment(int fallback) {
   return static_cast<int>(value);
 }
 
-int PerProcessDomainId() { return 100 + static_cast<int>(getpid() % 132); }
+std::optional<int> AcquireUnusedDomainId(int first, int count, int start) {
+  for (int i = 0; i < count; ++i) {
+    const int candidate = first + (start + i) % count;
+    const std::string path = "/tmp/mostar_dds_domain_" + std::to_string(candidate) + ".lock";
+    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) continue;
+    if (flock(fd, LOCK_EX | LOCK_NB) == 0) return candidate;  // fd kept open: held until exit
+    close(fd);
+  }
+  return std::nullopt;
+}
+
+int PerProcessDomainId() {
+  constexpr int kFirst = 100;
+  constexpr int kCount = 132;
+  static const int domain = [] {
+    const int start = static_cast<int>(getpid() % kCount);
+    return AcquireUnusedDomainId(kFirst, kCount, start).value_or(kFirst + start);
+  }();
+  return domain;
+}
 
 }  // namespace mostar::dds

@@ -22,7 +22,6 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -34,14 +33,12 @@
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
 #include "common/log/log.h"
+#include "common/process/stop_signals.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "ros2_msgsPubSubTypes.h"
 
 namespace mostar::relay {
 namespace {
-
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop = true; }
 
 // One forwarded topic: a reader on the robot side feeding a writer on the observer side.
 class ForwarderBase {
@@ -164,13 +161,12 @@ int Main(int argc, char** argv) {
                    << " -> observer domain " << observer_options.domain_id << " (" << profile
                    << ")";
 
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  InstallStopSignals();
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   Clock::time_point next_stats = start + std::chrono::duration_cast<Clock::duration>(
                                              std::chrono::duration<double>(stats_period_s));
-  while (!g_stop) {
+  while (!StopRequested()) {
     const Clock::time_point now = Clock::now();
     if (duration_s > 0 && now - start >= std::chrono::duration<double>(duration_s)) break;
     if (now >= next_stats) {

@@ -14,17 +14,10 @@
 
 #include "operator_client/fusion/vertex_array.h"
 #include "operator_client/render/gl_program.h"
+#include "operator_client/render/overlay_geometry.h"
 #include "operator_client/render/texture.h"
 
 namespace mostar::render {
-
-// The AR geometry of one frame (laser frame, metres).
-struct OverlayGeometry {
-  fusion::VertexArray triangles;  // GL_TRIANGLES: virtual walls
-  fusion::VertexArray lines;      // GL_LINES: rays, circles, vertical lines, predicted path
-  fusion::VertexArray points;     // GL_POINTS: laser points, NEP dots
-  float point_size_px = 5.f;
-};
 
 // Stereo alignment (thesis 9.1): the eye's image is shifted by (dx, dy) pixels; parts with no
 // correspondence in the other eye are cropped (drawn black).

@@ -4,7 +4,9 @@
 
 #include "common/log/log.h"
 #include "common/math/calibration_io.h"
+#include "common/stats/percentile.h"
 #include "operator_client/render/screenshot.h"
+#include "operator_client/ui/overlay_assembly.h"
 #include "operator_client/ui/panels/calibration_panel.h"
 #include "operator_client/ui/panels/help_panel.h"
 #include "operator_client/ui/panels/hud_panel.h"
@@ -12,25 +14,6 @@
 #include "operator_client/ui/panels/map_panel.h"
 
 namespace mostar::ui {
-
-namespace {
-
-void Append(const fusion::VertexArray& from, fusion::VertexArray* to) {
-  to->positions.insert(to->positions.end(), from.positions.begin(), from.positions.end());
-  to->colors.insert(to->colors.end(), from.colors.begin(), from.colors.end());
-}
-
-double Percentile(std::vector<double> values, double percentile) {
-  if (values.empty()) return 0;
-  const size_t index =
-      std::min(values.size() - 1,
-               static_cast<size_t>(percentile / 100.0 * static_cast<double>(values.size())));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
-                   values.end());
-  return values[index];
-}
-
-}  // namespace
 
 OperatorConsole::OperatorConsole(const ConsoleOptions& options, Window* window,
                                  client::StereoReceiver* video, client::RobotState* robot,
@@ -137,7 +120,9 @@ void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair
     input.right = latest->right;
     if (auto scan = robot_->NearestScan(latest->stamp)) {
       input.scan = *scan;
-      const fusion::ArFeatures features = ar_builders_->configured().Build(*scan);
+      // The overlay's builder: a live slopeTh edit moves the outliers the edges check too.
+      std::string error;
+      const fusion::ArFeatures features = OverlayBuilder(&error).Build(*scan);
       for (const fusion::ScanPointLabel& p : features.points) {
         input.potential_outliers.push_back(p.potential_outlier);
       }
@@ -149,35 +134,31 @@ void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair
   picker_.OnResult(edge_worker_->LatestResult(), latest);
 }
 
+const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* error) {
+  return ar_builders_->For(
+      OverlayArOptions(options_.ar, options_.calibration.laser_height_m,
+                       options_.show_calibration_panel),  // rays help calibrate
+      error);
+}
+
 void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
                                    render::OverlayGeometry* overlay, fusion::ArFeatures* features) {
   if (scan) {
     std::string error;
-    const fusion::ArFeatureBuilder& builder = ar_builders_->For(
-        OverlayArOptions(options_.ar, options_.calibration.laser_height_m,
-                         options_.show_calibration_panel),  // rays and lines help calibrating
-        &error);
+    OverlayBuilder(&error).Build(*scan, features);
     if (!error.empty()) status_line_ = "AR options: " + error;
-    builder.Build(*scan, features);
-    overlay->triangles = features->walls;
-    Append(features->rays, &overlay->lines);
-    Append(features->circles, &overlay->lines);
-    Append(features->vertical_lines, &overlay->lines);
-    overlay->points = features->laser_points;
   }
   // Possible obstacles the laser missed (NEPs much nearer than the laser point): magenta dots.
-  if (const auto& result = picker_.shown_result()) {
-    for (const vision::PossibleObstacle& o : result->classification.possible_obstacles) {
-      overlay->points.Add(static_cast<float>(o.floor_point_laser.x()),
-                          static_cast<float>(o.floor_point_laser.y()),
-                          static_cast<float>(o.floor_point_laser.z()), {1.f, 0.f, 1.f, 1.f});
-    }
-  }
+  static const std::vector<vision::PossibleObstacle> kNone;
+  const auto& result = picker_.shown_result();
+  fusion::VertexArray predicted;
   if (drive_.enable) {
     fusion::PredictedPathOptions path = options_.path;
     path.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
-    fusion::BuildPredictedPath(drive_.linear_mps, drive_.angular_radps, path, &overlay->lines);
+    fusion::BuildPredictedPath(drive_.linear_mps, drive_.angular_radps, path, &predicted);
   }
+  AssembleOverlay(scan ? features : nullptr,
+                  result ? result->classification.possible_obstacles : kNone, predicted, overlay);
 }
 
 bool OperatorConsole::Frame() {
@@ -245,11 +226,11 @@ bool OperatorConsole::Frame() {
 }
 
 double OperatorConsole::DisplayAgePercentileMs(double percentile) const {
-  return Percentile(display_ages_ms_, percentile);
+  return Percentile(display_ages_ms_, percentile / 100.0).value_or(0.0);
 }
 
 double OperatorConsole::FrameTimePercentileMs(double percentile) const {
-  return Percentile(frame_times_ms_, percentile);
+  return Percentile(frame_times_ms_, percentile / 100.0).value_or(0.0);
 }
 
 void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,

@@ -99,6 +99,9 @@ class OperatorConsole {
       const std::optional<client::DecodedStereoPair>& latest);
   // Hands the new pair to the edge worker and picks the pair (and result) to display.
   void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
+  // The AR builder of the overlay's current options (the configured one, with `error`, when
+  // they are invalid); rebuilt only when they change.
+  const fusion::ArFeatureBuilder& OverlayBuilder(std::string* error);
   void BuildOverlay(const std::optional<LaserScan>& scan, render::OverlayGeometry* overlay,
                     fusion::ArFeatures* features);
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,

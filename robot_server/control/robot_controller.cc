@@ -116,9 +116,6 @@ StepResult RobotController::Step(SteadyTime now) {
   std::string error;
   if (options_.write_stall_limit > Duration::zero() &&
       link_->BlockedWriteDuration(now) > options_.write_stall_limit) {
-    MOSTAR_LOG(ERROR) << "a network write has been blocked for more than "
-                      << ToSeconds(options_.write_stall_limit)
-                      << " s (DDS deadlock?): stopping the robot";
     devices_.motors->Stop(&error);
     return StepResult::kWriteStalled;
   }

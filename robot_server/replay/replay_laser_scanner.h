@@ -16,9 +16,9 @@
 #include <string>
 #include <thread>
 
-#include "common/time/rate_meter.h"
 #include "common/record/recording_reader.h"
 #include "common/record/replay_sources.h"
+#include "common/time/rate_meter.h"
 #include "robot_server/laser/laser_scanner.h"
 #include "robot_server/replay/replay_timeline.h"
 

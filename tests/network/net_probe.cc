@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -32,6 +31,7 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
+#include "common/process/stop_signals.h"
 #include "common/stats/percentile.h"
 #include "common/time/time.h"
 #include "mostar_msgsPubSubTypes.h"
@@ -39,9 +39,6 @@
 
 namespace mostar::network {
 namespace {
-
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop = true; }
 
 // Counts and ages per topic. With a warm-up, samples received in the first `warmup` after the
 // first sample of any topic (discovery, start-up bursts) are written to the samples file but
@@ -193,12 +190,11 @@ int Main(int argc, char** argv) {
     command_writer = command.ok() ? "ok" : "refused";
   }
 
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  InstallStopSignals();
   const auto end = std::chrono::steady_clock::now() +
                    std::chrono::milliseconds(static_cast<int64_t>(duration_s * 1000));
   uint64_t sequence = 0;
-  while (!g_stop && std::chrono::steady_clock::now() < end) {
+  while (!StopRequested() && std::chrono::steady_clock::now() < end) {
     if (ping_writer) {
       ClockProbe probe;
       probe.sender_id = id;

@@ -19,7 +19,7 @@ cleanup() {
 }
 trap cleanup EXIT
 trap "exit 1" INT TERM
-robot_domain=$((10 + $$ % 80 * 2)); observer_domain=$((robot_domain + 1))
+robot_domain=$((10 + $$ % 45 * 2)); observer_domain=$((robot_domain + 1))  # [10, 99]: loopback
 
 "$robot_server" --domain "$robot_domain" --config "$src/deploy/config/server_sim.pbtxt" \
   --source test_pattern --trace "$work/server.csv" > "$work/server.log" 2>&1 &

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stats/percentile.h"
 #include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/sim/sim_world.h"
 #include "tests/vision/sim_calibration.h"
@@ -42,10 +43,8 @@ struct Counts {
   double offset_sum_px = 0;
 };
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
+double Percentile(const std::vector<double>& v, double q) {
+  return mostar::Percentile(v, q).value_or(std::nan(""));
 }
 
 cv::Mat DistanceToBaseLines(const cv::Mat& labels) {

@@ -4,16 +4,13 @@
 // Prints the slave device path; point the driver's `port` at the link (or that path).
 #include <CLI/CLI.hpp>
 #include <atomic>
-#include <csignal>
 #include <iostream>
 #include <thread>
 
+#include "common/process/stop_signals.h"
 #include "robot_server/sim/lms200_emulator/lms200_pty.h"
 
-namespace {
-std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop = true; }
-}  // namespace
+namespace {}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"SICK LMS200 emulator on a pseudo-terminal"};
@@ -62,9 +59,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::cout << runner.slave_path() << (link.empty() ? "" : " (" + link + ")") << std::endl;
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
-  while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  mostar::InstallStopSignals();
+  while (!mostar::StopRequested()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   runner.Stop();
   return 0;
 }
