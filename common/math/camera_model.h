@@ -33,12 +33,17 @@
 #include <optional>
 #include <string>
 
+#include "common/types/eye.h"
+
 namespace mostar::math {
 
-// Which camera of the stereo rig a CameraModel describes. kMono ignores the per-eye offsets.
-enum class Eye { kMono, kLeft, kRight };
-
-const char* EyeName(Eye eye);
+// Which camera of the stereo rig a CameraModel describes: one eye (common/types/eye.h), or the
+// rig's centre (kMonoCamera), which ignores the per-eye offsets.
+using Eye = ::mostar::Eye;
+using RigCamera = std::optional<Eye>;
+inline constexpr RigCamera kMonoCamera = std::nullopt;
+// "mono", "left" or "right".
+const char* RigCameraName(RigCamera camera);
 
 // OpenCV distortion coefficients (dimensionless). All zero = ideal pinhole (the thesis' model).
 struct DistortionCoefficients {
@@ -88,7 +93,7 @@ struct LaserCameraCalibration {
   double cy() const { return principal_y_px.value_or(0.5 * (image_height_px - 1)); }
   double baseline_m() const { return right_eye_x_offset_m - left_eye_x_offset_m; }
   // camera_x_m plus the eye's offset.
-  double EyeX(Eye eye) const;
+  double EyeX(RigCamera camera) const;
 
   // True when every parameter is finite and inside its documented range; otherwise false and
   // `error` (if not null) names the first violated constraint, e.g. "focal_px must be > 0 (got
@@ -133,13 +138,13 @@ class CameraModel {
 
   // `calibration` must satisfy IsValid() (checked with an assertion); use Create() for
   // calibrations that come from outside (files, the UI).
-  CameraModel(const LaserCameraCalibration& calibration, Eye eye);
+  CameraModel(const LaserCameraCalibration& calibration, RigCamera camera);
   // Returns nullopt and sets `error` when the calibration is invalid.
-  static std::optional<CameraModel> Create(const LaserCameraCalibration& calibration, Eye eye,
-                                           std::string* error);
+  static std::optional<CameraModel> Create(const LaserCameraCalibration& calibration,
+                                           RigCamera camera, std::string* error);
 
   const LaserCameraCalibration& calibration() const { return calibration_; }
-  Eye eye() const { return eye_; }
+  RigCamera eye() const { return eye_; }
   int width_px() const { return calibration_.image_width_px; }
   int height_px() const { return calibration_.image_height_px; }
   const Eigen::Isometry3d& camera_from_laser() const { return camera_from_laser_; }
@@ -201,7 +206,7 @@ class CameraModel {
   bool InsideUndistortedBounds(const Eigen::Vector3d& point_camera) const;
 
   LaserCameraCalibration calibration_;
-  Eye eye_;
+  RigCamera eye_;
   Eigen::Isometry3d camera_from_laser_;
   Eigen::Isometry3d laser_from_camera_;
   // Largest squared normalised radius where the radial distortion is still increasing.

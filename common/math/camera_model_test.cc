@@ -37,7 +37,7 @@ TEST(CameraModelTest, DefaultCalibrationIsValid) {
 TEST(CameraModelTest, LevelCameraSeesPointAheadAtPrincipalPoint) {
   LaserCameraCalibration calibration;
   calibration.tilt_rad = 0.0;
-  const CameraModel camera(calibration, Eye::kMono);
+  const CameraModel camera(calibration, kMonoCamera);
   const Eigen::Vector3d ahead(5.0, -calibration.camera_x_m, calibration.camera_y_m);
   const std::optional<Eigen::Vector2d> pixel = camera.Project(ahead);
   ASSERT_TRUE(pixel.has_value());
@@ -54,7 +54,7 @@ TEST(CameraModelTest, CameraCentreFollowsThesisAxes) {
   calibration.camera_x_m = 0.2;
   calibration.camera_y_m = 0.5;
   calibration.camera_z_m = -0.1;
-  const CameraModel mono(calibration, Eye::kMono);
+  const CameraModel mono(calibration, kMonoCamera);
   EXPECT_TRUE(mono.CameraCenterInLaser().isApprox(Eigen::Vector3d(-0.1, -0.2, 0.5)));
   const CameraModel left(calibration, Eye::kLeft);
   const CameraModel right(calibration, Eye::kRight);
@@ -65,7 +65,7 @@ TEST(CameraModelTest, CameraCentreFollowsThesisAxes) {
 }
 
 TEST(CameraModelTest, RejectsPointsBehindTheCamera) {
-  const CameraModel camera(Morduc(), Eye::kMono);
+  const CameraModel camera(Morduc(), kMonoCamera);
   EXPECT_FALSE(camera.Project(Eigen::Vector3d(-3.0, 0.0, 0.0)).has_value());
   EXPECT_FALSE(camera.Project(camera.CameraCenterInLaser()).has_value());
   EXPECT_FALSE(camera.Project(Eigen::Vector3d(NAN, 0.0, 0.0)).has_value());
@@ -74,7 +74,7 @@ TEST(CameraModelTest, RejectsPointsBehindTheCamera) {
 }
 
 TEST(CameraModelTest, TiltedDownCameraSeesFartherFloorPointsHigher) {
-  const CameraModel camera(Morduc(), Eye::kMono);
+  const CameraModel camera(Morduc(), kMonoCamera);
   const double floor_z = -Morduc().laser_height_m;
   double previous_v = 1e9;
   for (double x = 1.5; x <= 8.0; x += 0.5) {
@@ -93,11 +93,11 @@ TEST(CameraModelTest, PanAndRollTurnTheRightWay) {
   calibration.tilt_rad = 0.0;
   calibration.pan_rad = 0.1;  // looking left: a point straight ahead appears right of centre
   const Eigen::Vector3d ahead(5.0, 0.0, calibration.camera_y_m);
-  EXPECT_GT(CameraModel(calibration, Eye::kMono).Project(ahead)->x(), 319.5 + 10.0);
+  EXPECT_GT(CameraModel(calibration, kMonoCamera).Project(ahead)->x(), 319.5 + 10.0);
   calibration.pan_rad = 0.0;
   calibration.roll_rad = 0.1;  // camera rolls clockwise: the scene turns counter-clockwise
   const Eigen::Vector3d ahead_right(5.0, -1.0, calibration.camera_y_m);
-  const Eigen::Vector2d pixel = *CameraModel(calibration, Eye::kMono).Project(ahead_right);
+  const Eigen::Vector2d pixel = *CameraModel(calibration, kMonoCamera).Project(ahead_right);
   EXPECT_GT(pixel.x(), 319.5);
   EXPECT_LT(pixel.y(), 239.5 - 5.0);  // counter-clockwise on screen: right side moves up
 }
@@ -120,7 +120,7 @@ class RoundTripTest : public ::testing::TestWithParam<int> {
 };
 
 TEST_P(RoundTripTest, FloorPointsSurviveProjectThenUnproject) {
-  for (Eye eye : {Eye::kMono, Eye::kLeft, Eye::kRight}) {
+  for (RigCamera eye : {kMonoCamera, RigCamera(Eye::kLeft), RigCamera(Eye::kRight)}) {
     const CameraModel camera(Calibration(), eye);
     const double floor_z = -Calibration().laser_height_m;
     int checked = 0;
@@ -135,7 +135,7 @@ TEST_P(RoundTripTest, FloorPointsSurviveProjectThenUnproject) {
         ++checked;
       }
     }
-    EXPECT_GT(checked, 200) << EyeName(eye);
+    EXPECT_GT(checked, 200) << RigCameraName(eye);
   }
 }
 
@@ -160,7 +160,7 @@ TEST_P(RoundTripTest, PixelsSurviveUnprojectThenProject) {
 INSTANTIATE_TEST_SUITE_P(PinholeAndLens, RoundTripTest, ::testing::Values(0, 1));
 
 TEST(CameraModelTest, PixelsAboveTheHorizonDoNotReachTheFloor) {
-  const CameraModel camera(Morduc(), Eye::kMono);
+  const CameraModel camera(Morduc(), kMonoCamera);
   EXPECT_FALSE(camera.UnprojectToFloor(Eigen::Vector2d(320.0, 0.0)).has_value());
   EXPECT_FALSE(camera.UnprojectToFloor(Eigen::Vector2d(NAN, 200.0)).has_value());
   // Close to the horizon the floor point is beyond max_range_m.
@@ -169,7 +169,7 @@ TEST(CameraModelTest, PixelsAboveTheHorizonDoNotReachTheFloor) {
 }
 
 TEST(CameraModelTest, UndistortInvertsDistort) {
-  const CameraModel camera(WithLens(), Eye::kMono);
+  const CameraModel camera(WithLens(), kMonoCamera);
   for (double x = -0.6; x <= 0.6; x += 0.05) {
     for (double y = -0.45; y <= 0.45; y += 0.05) {
       const Eigen::Vector2d p(x, y);
@@ -252,7 +252,7 @@ TEST(CameraModelTest, GlMatricesDrawWhatProjectComputes) {
 }
 
 TEST(CameraModelTest, GlDepthIsMonotonicAlongTheOpticalAxis) {
-  const CameraModel camera(Morduc(), Eye::kMono);
+  const CameraModel camera(Morduc(), kMonoCamera);
   const GlMatrices gl = camera.OpenGlMatrices(0.1, 30.0);
   double near_z = 0.0;
   double far_z = 0.0;
@@ -263,7 +263,7 @@ TEST(CameraModelTest, GlDepthIsMonotonicAlongTheOpticalAxis) {
 
 TEST(CameraModelTest, FloorRayFromTheRobotBaseIsClippedToTheImage) {
   for (const LaserCameraCalibration& calibration : {Morduc(), WithLens()}) {
-    const CameraModel camera(calibration, Eye::kMono);
+    const CameraModel camera(calibration, kMonoCamera);
     const Eigen::Vector3d base(0.0, 0.0, -calibration.laser_height_m);
     for (double angle = -0.5; angle <= 0.5; angle += 0.1) {
       const Eigen::Vector3d direction =
@@ -290,7 +290,7 @@ TEST(CameraModelTest, FloorRayFromTheRobotBaseIsClippedToTheImage) {
 }
 
 TEST(CameraModelTest, RayOutsideTheFieldOfViewIsNotVisible) {
-  const CameraModel camera(Morduc(), Eye::kMono);
+  const CameraModel camera(Morduc(), kMonoCamera);
   const Eigen::Vector3d base(0.0, 0.0, -0.4);
   EXPECT_FALSE(camera.ProjectRayToImage(base, Eigen::Vector3d(-1, 0, 0), 5.0).has_value());
   EXPECT_FALSE(camera.ProjectRayToImage(base, Eigen::Vector3d(0, 1, 0), 5.0).has_value());
@@ -325,16 +325,16 @@ TEST(CameraModelTest, IsValidNamesTheViolatedConstraint) {
     EXPECT_FALSE(calibration.IsValid(&error)) << c.expected;
     EXPECT_NE(error.find(c.expected), std::string::npos) << error;
     EXPECT_FALSE(calibration.IsValid(nullptr));
-    EXPECT_FALSE(CameraModel::Create(calibration, Eye::kMono, &error).has_value());
+    EXPECT_FALSE(CameraModel::Create(calibration, kMonoCamera, &error).has_value());
   }
   std::string error;
-  EXPECT_TRUE(CameraModel::Create(Morduc(), Eye::kMono, &error).has_value()) << error;
+  EXPECT_TRUE(CameraModel::Create(Morduc(), kMonoCamera, &error).has_value()) << error;
 }
 
 TEST(CameraModelTest, TiltIsTheAngleOfTheOpticalAxisBelowHorizontal) {
   LaserCameraCalibration calibration;
   calibration.tilt_rad = 12.0 * kPi / 180.0;
-  const CameraModel camera(calibration, Eye::kMono);
+  const CameraModel camera(calibration, kMonoCamera);
   const Eigen::Vector3d axis =
       camera.PixelRayInLaser(Eigen::Vector2d(camera.calibration().cx(), camera.calibration().cy()));
   EXPECT_NEAR(std::asin(-axis.z()), calibration.tilt_rad, 1e-12);

@@ -7,12 +7,9 @@
 #include <vector>
 
 #include "common/time/time.h"
+#include "common/types/eye.h"
 
 namespace mostar {
-
-enum class Eye { kLeft = 0, kRight = 1 };
-
-inline const char* EyeName(Eye eye) { return eye == Eye::kLeft ? "left" : "right"; }
 
 struct CompressedImage {
   Time stamp;            // capture time (both eyes of a pair share it)

@@ -46,7 +46,7 @@ TEST(NearestEdgeOptionsTest, RejectsBadValuesByName) {
 }
 
 TEST(NearestEdgeTest, FindsAHorizontalLineDrawnAtAKnownFloorDistance) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   for (const double distance_m : {1.2, 2.0, 3.5, 6.0}) {
     const Eigen::Vector3d floor_point = FloorPointLaser(0.0, distance_m, 0.40);
     const Eigen::Vector2d pixel = *camera.Project(floor_point);
@@ -65,7 +65,7 @@ TEST(NearestEdgeTest, FindsAHorizontalLineDrawnAtAKnownFloorDistance) {
 }
 
 TEST(NearestEdgeTest, EveryVisibleBeamStopsAtTheFirstLineFromTheRobot) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
   edges.row(300).setTo(255);  // nearer line
   edges.row(200).setTo(255);  // farther line
@@ -95,7 +95,7 @@ TEST(NearestEdgeTest, FollowsTheCurvedImageOfTheRayUnderDistortion) {
   math::LaserCameraCalibration calibration = Calibration();
   calibration.distortion.k1 = -0.25;
   calibration.distortion.k2 = 0.05;
-  const math::CameraModel camera(calibration, math::Eye::kMono);
+  const math::CameraModel camera(calibration, math::kMonoCamera);
   // The image of the floor line x = 2.5 m (a curve under distortion), drawn 8-connected.
   constexpr double kLineX = 2.5;
   cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
@@ -126,7 +126,7 @@ TEST(NearestEdgeTest, FollowsTheCurvedImageOfTheRayUnderDistortion) {
 }
 
 TEST(NearestEdgeTest, IgnoresTheRobotsBottomMargin) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
   edges.row(470).setTo(255);  // the robot's own bumper
   edges.row(350).setTo(255);
@@ -139,7 +139,7 @@ TEST(NearestEdgeTest, IgnoresTheRobotsBottomMargin) {
 }
 
 TEST(NearestEdgeTest, DoesNotCrossADiagonalEdgeUnseen) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   // A thin 8-connected diagonal line v = offset + slope * u; rays fanning left and right cross
   // it in both diagonal directions, where a pixel-by-pixel walk could slip between two pixels.
   for (const double slope : {1.0, -1.0}) {
@@ -165,7 +165,7 @@ TEST(NearestEdgeTest, DoesNotCrossADiagonalEdgeUnseen) {
 }
 
 TEST(NearestEdgeTest, LateralToleranceCatchesAnEdgeBesideTheRay) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   const Eigen::Vector2d pixel = *camera.Project(FloorPointLaser(0.0, 3.0, 0.40));
   cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
   const int col = static_cast<int>(std::lround(pixel.x())) + 2;
@@ -180,7 +180,7 @@ TEST(NearestEdgeTest, LateralToleranceCatchesAnEdgeBesideTheRay) {
 }
 
 TEST(NearestEdgeTest, RejectsAMismatchedEdgeImageWithAMessage) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   const LaserScan scan = ScanWithBeams(11, 2.0f);
   NedResult result;
   std::string error;
@@ -192,7 +192,7 @@ TEST(NearestEdgeTest, RejectsAMismatchedEdgeImageWithAMessage) {
 }
 
 TEST(NearestEdgeTest, AnEmptyEdgeImageGivesNoNeps) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   NedResult result;
   std::string error;
   ASSERT_TRUE(FindNearestEdges(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), camera,
@@ -204,7 +204,7 @@ TEST(NearestEdgeTest, AnEmptyEdgeImageGivesNoNeps) {
 TEST(NearestEdgeTest, BaseRefinementMovesFromAShadowRimToTheStrongerBaseEdge) {
   // Straight ahead: a faint rim (floor 150 -> shadow 120) two rows nearer than the base
   // (shadow 120 -> dark obstacle 20), both marked as edges.
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   const int base_row =
       static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 2.0, 0.40))->y()));
   cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(150));
@@ -238,7 +238,7 @@ TEST(NearestEdgeTest, BaseRefinementMovesFromAShadowRimToTheStrongerBaseEdge) {
 }
 
 TEST(NearestEdgeTest, StepTestSkipsThinFloorLinesButNotObstacleBases) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   const int joint_row =
       static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 1.5, 0.40))->y()));
   const int base_row =
@@ -263,7 +263,7 @@ TEST(NearestEdgeTest, StepTestSkipsThinFloorLinesButNotObstacleBases) {
 // An edge at the ray's start (the image border) has no floor before it to compare with: the
 // step test cannot tell it from a line on the floor and skips it.
 TEST(NearestEdgeTest, StepTestSkipsEdgesWithNoFloorBeforeThem) {
-  const math::CameraModel camera(Calibration(), math::Eye::kMono);
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
   NearestEdgeOptions options;
   options.base_search_m = 0.0;
   const RayPixels ray = TraceRayPixels(camera, 0.0, options);
@@ -285,7 +285,7 @@ TEST(NearestEdgeTest, StepTestSkipsEdgesWithNoFloorBeforeThem) {
 }
 
 TEST(NearestEdgeTest, FinderReportsTheHighestRowItsRaysRead) {
-  const auto camera = std::make_shared<const math::CameraModel>(Calibration(), math::Eye::kMono);
+  const auto camera = std::make_shared<const math::CameraModel>(Calibration(), math::kMonoCamera);
   const LaserScan scan = ScanWithBeams(181, 3.0f);
   NearestEdgeOptions options;
   NearestEdgeFinder finder(options);

@@ -55,7 +55,7 @@ struct VisionInput {
   LaserScan scan;  // laser frame, the scan matched to the images
   // Fusion's discontinuity labelling: one flag per beam, or empty.
   std::vector<bool> potential_outliers;
-  std::shared_ptr<const math::CameraModel> left_camera;   // Eye::kLeft (or kMono)
+  std::shared_ptr<const math::CameraModel> left_camera;   // Eye::kLeft (or math::kMonoCamera)
   std::shared_ptr<const math::CameraModel> right_camera;  // Eye::kRight; may be null in mono
 };
 

@@ -158,6 +158,7 @@ class RobotControllerTest : public ::testing::Test {
   FakeClock clock_;
   RobotControllerOptions options_;
   drive::FakeDriveMotors motors_;
+  FlakyMotors flaky_motors_;  // declared before controller_, which uses the motors until it ends
   FakeLaser laser_;
   FakeRobotLink link_;
   std::optional<RobotController> controller_;
@@ -274,8 +275,7 @@ TEST_F(RobotControllerTest, HealthListsEveryDeviceEveryHealthPeriod) {
 }
 
 TEST_F(RobotControllerTest, MotorFailuresAreCountedAndTheDriveReportsNoLink) {
-  FlakyMotors motors;
-  Make(&motors);
+  Make(&flaky_motors_);
   Run(30);
   EXPECT_EQ(controller_->motor_errors(), 30u);
   const DeviceHealth* drive = Device(link_.healths.back(), "drive");
