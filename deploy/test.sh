@@ -53,7 +53,9 @@ format_stage() {
 default_stage() {
   cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
   cmake --build "$BUILD_DIR" -j "$JOBS"
-  in_display ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 300 "$@"
+  # known_failure: registered tests of a known defect that is not fixed yet (docs/architecture.md)
+  in_display ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" --timeout 300 \
+    -LE known_failure "$@"
 }
 
 asan_stage() {
