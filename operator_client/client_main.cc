@@ -17,6 +17,7 @@
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
 #include "operator_client/client_config.pb.h"
+#include "operator_client/client_options.h"
 #include "operator_client/net/operator_node.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/render/stereo_compositor.h"
@@ -29,65 +30,18 @@
 namespace mostar::client {
 namespace {
 
-// Client configuration -> console options; false with a message naming the key.
-bool ApplyConfig(const ClientConfig& config, const std::string& config_dir,
-                 ui::ConsoleOptions* options, std::string* error) {
-  if (config.has_calibration_profile()) {
-    const std::string path = ResolveRelativeTo(config.calibration_profile(), config_dir);
-    if (!math::LoadCalibrationProfile(path, &options->calibration, error)) return false;
-    options->calibration_path = path;
-  }
-  const ArConfig& ar = config.ar();
-  options->ar.min_distance_m = static_cast<float>(ar.min_distance_m());
-  options->ar.max_distance_m = static_cast<float>(ar.max_distance_m());
-  options->ar.wall_height_m = static_cast<float>(ar.wall_height_m());
-  options->ar.segmentation.slope_threshold = static_cast<float>(ar.slope_threshold());
-  options->ar.walls_enabled = ar.walls();
-  options->ar.rays_enabled = ar.rays();
-  options->ar.vertical_lines_enabled = ar.vertical_lines();
-  options->ar.circles_enabled = ar.circles();
-  options->ar.circle_spacing_m = static_cast<float>(ar.circle_spacing_m());
-  options->ar.labels_enabled = ar.labels();
-  options->ar.label_count = ar.label_count();
-  if (!options->ar.IsValid(error)) {
-    *error = "ar: " + *error;
-    return false;
-  }
-  options->intrinsics_from_robot = config.intrinsics_from_robot();
-  options->vision_enabled = config.vision_enabled();
-  options->vision = vision::FromProto(config.vision());
-  if (!options->vision.IsValid(error)) {
-    *error = "vision: " + *error;
-    return false;
-  }
-  options->drive.max_linear_mps = config.drive().max_linear_mps();
-  options->drive.max_angular_radps = config.drive().max_angular_radps();
-  options->drive.stick_deadzone = config.drive().stick_deadzone();
-  if (!options->drive.IsValid(error)) {
-    *error = "drive: " + *error;
-    return false;
-  }
-  return true;
-}
-
 int Run(int argc, char** argv) {
   CLI::App app{"operator_client: stereoscopic AR view of the robot and driving console."};
   int domain = -1;
   std::string dds_profile = "loopback";
-  std::string client_id = "operator";
-  std::string role = "pilot";
+  ClientFlags flags;
   int strength = 10;
-  std::string display = "mono-left";
-  std::string calibration_path;
   std::string config_path;
-  bool headless = false;
-  bool calibration_panel = false;
   int max_frames = 0;
   double duration_s = 0;
   std::string screenshot;
   int64_t capture_stamp_ns = -1;
   int capture_after = -1;
-  bool no_hud = false;
   std::vector<double> scripted_drive;
   std::string trace_path;
   std::string record_path;
@@ -95,21 +49,23 @@ int Run(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
       ->check(CLI::Range(0, 232));
   app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
-  app.add_option("--id", client_id, "this client's id (shown in the lease)");
-  app.add_option("--role", role, "pilot | observer")->check(CLI::IsMember({"pilot", "observer"}));
+  app.add_option("--id", flags.client_id, "this client's id (shown in the lease)");
+  app.add_option("--role", flags.role, "pilot | observer")
+      ->check(CLI::IsMember({"pilot", "observer"}));
   app.add_option("--strength", strength,
                  "DDS ownership strength of the command writer; use the strength the robot's "
                  "role table gives this id")
       ->check(CLI::Range(1, 1000));
-  app.add_option("--display", display,
+  app.add_option("--display", flags.display,
                  "mono-left | mono-right | anaglyph | anaglyph-color | sbs | sbs-half | "
                  "top-bottom | interlaced | quad-buffer");
   app.add_option("-c,--config", config_path, "client configuration (protobuf text format)")
       ->check(CLI::ExistingFile);
-  app.add_option("--calibration", calibration_path,
+  app.add_option("--calibration", flags.calibration_path,
                  "laser-camera calibration profile (protobuf text); the panel saves here");
-  app.add_flag("--calibration-panel", calibration_panel, "open the calibration panel at start");
-  app.add_flag("--headless", headless,
+  app.add_flag("--calibration-panel", flags.calibration_panel,
+               "open the calibration panel at start");
+  app.add_flag("--headless", flags.headless,
                "hidden window; render to --screenshot (needs an X server, e.g. xvfb-run)");
   app.add_option("--frames", max_frames, "exit after rendering this many video frames")
       ->check(CLI::NonNegativeNumber);
@@ -126,7 +82,7 @@ int Run(int argc, char** argv) {
                  "gives its stamp (captured_stamp_ns)")
       ->check(CLI::NonNegativeNumber)
       ->excludes(capture_stamp_option);
-  app.add_flag("--no-hud", no_hud, "hide the HUD (changing rates and ages; H toggles it)");
+  app.add_flag("--no-hud", flags.no_hud, "hide the HUD (changing rates and ages; H toggles it)");
   app.add_option("--drive", scripted_drive, "scripted command V,W (m/s, rad/s) held throughout")
       ->expected(2)
       ->delimiter(',');
@@ -147,26 +103,16 @@ int Run(int argc, char** argv) {
     return 2;
   }
   ui::ConsoleOptions console_options;
-  if (!ApplyConfig(config, DirectoryOf(config_path), &console_options, &error)) {
+  if (!ConsoleOptionsFromConfig(config, DirectoryOf(config_path), &console_options, &error)) {
     std::cerr << "operator_client: bad configuration: " << error << "\n";
     return 2;
   }
-  if (app.count("--display") == 0 && config.has_display_mode()) display = config.display_mode();
-  console_options.client_id = client_id;
-  console_options.pilot = role == "pilot";
-  console_options.headless = headless;
-  if (no_hud) console_options.show_hud = false;
-  console_options.show_calibration_panel = calibration_panel;
-  if (!calibration_path.empty()) console_options.calibration_path = calibration_path;
-  if (!render::ParseDisplayMode(display, &console_options.mode)) {
-    std::cerr << "operator_client: unknown display mode '" << display << "'\n";
+  if (!ApplyClientFlags(flags, config, &console_options, &error)) {
+    std::cerr << "operator_client: " << error << "\n";
     return 2;
   }
-  if (!calibration_path.empty() &&
-      !math::LoadCalibrationProfile(calibration_path, &console_options.calibration, &error)) {
-    std::cerr << "operator_client: bad calibration profile: " << error << "\n";
-    return 2;
-  }
+  const std::string& client_id = flags.client_id;
+  const bool headless = flags.headless;
   StampTrace trace;
   if (!trace.Open(trace_path)) {
     std::cerr << "operator_client: cannot write " << trace_path << "\n";
@@ -289,7 +235,7 @@ int Run(int argc, char** argv) {
   if (scripted_drive.size() == 2) {
     console.SetScriptedDrive({scripted_drive[0], scripted_drive[1], true});
   }
-  MOSTAR_LOG(INFO) << "operator_client '" << client_id << "' (" << role << ") on DDS domain "
+  MOSTAR_LOG(INFO) << "operator_client '" << client_id << "' (" << flags.role << ") on DDS domain "
                    << dds_options.domain_id << ", " << window->renderer() << ", display "
                    << render::DisplayModeName(console_options.mode);
   commands.Start();

@@ -1,0 +1,72 @@
+#include "operator_client/client_options.h"
+
+#include "common/config/config_paths.h"
+#include "common/math/calibration_io.h"
+#include "operator_client/render/display_mode.h"
+
+namespace mostar::client {
+
+bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& config_dir,
+                              ui::ConsoleOptions* options, std::string* error) {
+  if (config.has_calibration_profile()) {
+    const std::string path = ResolveRelativeTo(config.calibration_profile(), config_dir);
+    if (!math::LoadCalibrationProfile(path, &options->calibration, error)) return false;
+    options->calibration_path = path;
+  }
+  const ArConfig& ar = config.ar();
+  options->ar.min_distance_m = static_cast<float>(ar.min_distance_m());
+  options->ar.max_distance_m = static_cast<float>(ar.max_distance_m());
+  options->ar.wall_height_m = static_cast<float>(ar.wall_height_m());
+  options->ar.segmentation.slope_threshold = static_cast<float>(ar.slope_threshold());
+  options->ar.walls_enabled = ar.walls();
+  options->ar.rays_enabled = ar.rays();
+  options->ar.vertical_lines_enabled = ar.vertical_lines();
+  options->ar.circles_enabled = ar.circles();
+  options->ar.circle_spacing_m = static_cast<float>(ar.circle_spacing_m());
+  options->ar.labels_enabled = ar.labels();
+  options->ar.label_count = ar.label_count();
+  if (!options->ar.IsValid(error)) {
+    *error = "ar: " + *error;
+    return false;
+  }
+  options->intrinsics_from_robot = config.intrinsics_from_robot();
+  options->vision_enabled = config.vision_enabled();
+  options->vision = vision::FromProto(config.vision());
+  if (!options->vision.IsValid(error)) {
+    *error = "vision: " + *error;
+    return false;
+  }
+  options->drive.max_linear_mps = config.drive().max_linear_mps();
+  options->drive.max_angular_radps = config.drive().max_angular_radps();
+  options->drive.stick_deadzone = config.drive().stick_deadzone();
+  if (!options->drive.IsValid(error)) {
+    *error = "drive: " + *error;
+    return false;
+  }
+  return true;
+}
+
+bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
+                      ui::ConsoleOptions* options, std::string* error) {
+  options->client_id = flags.client_id;
+  options->pilot = flags.role == "pilot";
+  options->headless = flags.headless;
+  if (flags.no_hud) options->show_hud = false;
+  options->show_calibration_panel = flags.calibration_panel;
+  std::string display = flags.display;
+  if (display.empty()) display = config.has_display_mode() ? config.display_mode() : "mono-left";
+  if (!render::ParseDisplayMode(display, &options->mode)) {
+    *error = "unknown display mode '" + display + "'";
+    return false;
+  }
+  if (!flags.calibration_path.empty()) {
+    if (!math::LoadCalibrationProfile(flags.calibration_path, &options->calibration, error)) {
+      *error = "--calibration: " + *error;
+      return false;
+    }
+    options->calibration_path = flags.calibration_path;
+  }
+  return true;
+}
+
+}  // namespace mostar::client

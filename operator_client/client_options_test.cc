@@ -1,0 +1,97 @@
+#include "operator_client/client_options.h"
+
+#include <gtest/gtest.h>
+
+#include "common/config/config_loader.h"
+
+namespace mostar::client {
+namespace {
+
+const std::string kConfigDir = std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/config";
+
+TEST(ClientOptionsTest, ShippedSimConfigGivesValidOptionsWithItsCalibration) {
+  ClientConfig config;
+  std::string error;
+  ASSERT_TRUE(LoadTextConfig(kConfigDir + "/client_sim.pbtxt", &config, &error)) << error;
+  ui::ConsoleOptions options;
+  ASSERT_TRUE(ConsoleOptionsFromConfig(config, kConfigDir, &options, &error)) << error;
+  if (config.has_calibration_profile()) {
+    EXPECT_EQ(options.calibration_path, kConfigDir + "/" + config.calibration_profile())
+        << "relative to the configuration file";
+  }
+  EXPECT_TRUE(options.calibration.IsValid(&error)) << error;
+  EXPECT_TRUE(options.ar.IsValid(&error)) << error;
+}
+
+TEST(ClientOptionsTest, ConfigValuesReachTheConsole) {
+  ClientConfig config;
+  config.mutable_ar()->set_min_distance_m(0.7);
+  config.mutable_ar()->set_circles(false);
+  config.set_vision_enabled(false);
+  config.set_intrinsics_from_robot(false);
+  config.mutable_drive()->set_max_linear_mps(0.25);
+  ui::ConsoleOptions options;
+  std::string error;
+  ASSERT_TRUE(ConsoleOptionsFromConfig(config, "", &options, &error)) << error;
+  EXPECT_FLOAT_EQ(options.ar.min_distance_m, 0.7f);
+  EXPECT_FALSE(options.ar.circles_enabled);
+  EXPECT_FALSE(options.vision_enabled);
+  EXPECT_FALSE(options.intrinsics_from_robot);
+  EXPECT_DOUBLE_EQ(options.drive.max_linear_mps, 0.25);
+}
+
+TEST(ClientOptionsTest, InconsistentValuesAreRefusedNamingTheSection) {
+  ClientConfig config;
+  config.mutable_ar()->set_min_distance_m(3);
+  config.mutable_ar()->set_max_distance_m(1);  // green before red
+  ui::ConsoleOptions options;
+  std::string error;
+  EXPECT_FALSE(ConsoleOptionsFromConfig(config, "", &options, &error));
+  EXPECT_EQ(error.rfind("ar: ", 0), 0u) << error;
+}
+
+TEST(ClientOptionsTest, AMissingCalibrationProfileIsRefused) {
+  ClientConfig config;
+  config.set_calibration_profile("no_such_profile.pbtxt");
+  ui::ConsoleOptions options;
+  std::string error;
+  EXPECT_FALSE(ConsoleOptionsFromConfig(config, "/nonexistent", &options, &error));
+  EXPECT_NE(error.find("/nonexistent/no_such_profile.pbtxt"), std::string::npos) << error;
+}
+
+TEST(ClientOptionsTest, FlagsOverrideAndTheConfigGivesTheDisplayModeOtherwise) {
+  ClientConfig config;
+  config.set_display_mode("anaglyph");
+  ui::ConsoleOptions options;
+  std::string error;
+  ClientFlags flags;
+  flags.client_id = "bob";
+  flags.role = "observer";
+  flags.no_hud = true;
+  flags.headless = true;
+  ASSERT_TRUE(ApplyClientFlags(flags, config, &options, &error)) << error;
+  EXPECT_EQ(options.client_id, "bob");
+  EXPECT_FALSE(options.pilot);
+  EXPECT_FALSE(options.show_hud);
+  EXPECT_TRUE(options.headless);
+  EXPECT_EQ(options.mode, render::DisplayMode::kAnaglyphGrey);
+  flags.display = "sbs";
+  ASSERT_TRUE(ApplyClientFlags(flags, config, &options, &error)) << error;
+  EXPECT_EQ(options.mode, render::DisplayMode::kSideBySideFull);
+}
+
+TEST(ClientOptionsTest, BadFlagsAreRefusedWithTheValue) {
+  ui::ConsoleOptions options;
+  std::string error;
+  ClientFlags flags;
+  flags.display = "holographic";
+  EXPECT_FALSE(ApplyClientFlags(flags, ClientConfig{}, &options, &error));
+  EXPECT_EQ(error, "unknown display mode 'holographic'");
+  flags.display = "";
+  flags.calibration_path = "/nonexistent/calibration.pbtxt";
+  EXPECT_FALSE(ApplyClientFlags(flags, ClientConfig{}, &options, &error));
+  EXPECT_EQ(error.rfind("--calibration: ", 0), 0u) << error;
+}
+
+}  // namespace
+}  // namespace mostar::client
