@@ -88,24 +88,24 @@ TEST(SimWorldTest, StereoPairComesWithPoseAndTruth) {
 TEST(SimWorldTest, OneSteppingThreadAndReadersRunTogether) {
   auto sim = MakeWorld("wall { x0_m: 6 y0_m: -20 x1_m: 6 y1_m: 20 }");
   std::atomic<bool> done{false};
+  std::atomic<int> reads{0};
   std::thread stepper([&] {
+    // Start stepping only once the reader runs, so the two really overlap.
+    while (reads.load() == 0) std::this_thread::yield();
     for (int i = 1; i <= 200; ++i) {
       sim->SetVelocity(0.3, i % 2 ? 0.2 : -0.2);
       sim->AdvanceTo(kStart + FromMilliseconds(10.0 * i));
     }
     done = true;
   });
-  int scans = 0, pairs = 0;
-  while (!done) {
+  do {
     const LaserScan scan = sim->ScanAt(kStart);
     EXPECT_EQ(scan.ranges_m.size(), 361u);
     const StereoImages images = sim->StereoAt(kStart, false);
     EXPECT_FALSE(images.left.empty());
-    ++scans;
-    ++pairs;
-  }
+    ++reads;
+  } while (!done);
   stepper.join();
-  EXPECT_GT(scans, 0);
   const RobotState s = sim->StateAt(kStart + FromSeconds(2));
   EXPECT_GT(s.world_from_base.x_m, 0.3);
 }
