@@ -20,8 +20,11 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
   # fuzzing (libFuzzer)
   clang libclang-rt-14-dev
-  # tools used by the tests (network namespaces, shaping)
-  iproute2 procps openssl bc
+  # tools used by the tests (network namespaces, shaping, analysis)
+  iproute2 procps openssl bc python3
+  # the Internet deployment: NAT routers in the tests, the WireGuard overlay (user-space
+  # wireguard-go where the kernel has no WireGuard module)
+  nftables wireguard-tools wireguard-go
 )
 
 missing=()

@@ -151,6 +151,9 @@ int Run(int argc, char** argv) {
   OperatorNode::Callbacks callbacks;
   callbacks.on_image = [&](Eye eye, const CompressedImage& image) {
     trace.Add(eye == Eye::kLeft ? "left" : "right", image.stamp, 0);
+    // Arrival time with the capture stamp in the sequence field: the image's age on arrival.
+    if (eye == Eye::kLeft)
+      trace.Add("left_rx", clock->Now(), static_cast<uint64_t>(ToUnixNanos(image.stamp)));
     if (rec) rec->Write(image, eye);
     video.Push(eye, image);
   };

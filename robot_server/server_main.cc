@@ -139,6 +139,7 @@ int Run(int argc, char** argv) {
   RobotNode::VideoOptions video;
   video.window_pairs = config.dds().video_window_pairs();
   video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());
+  video.repair_period = std::chrono::milliseconds(config.dds().video_repair_period_ms());
   std::unique_ptr<RobotNode> node =
       RobotNode::Create(participant.get(), callbacks, clock, &error, video);
   if (!node) return Fail(1, error);

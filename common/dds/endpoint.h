@@ -46,13 +46,16 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
 
   Writer(Participant& participant, const std::string& topic_name, Stream stream,
          int32_t ownership_strength = 0)
+      : Writer(participant, topic_name, WriterQos(stream, ownership_strength)) {}
+  // With QoS made by the caller (e.g. VideoWriterQos).
+  Writer(Participant& participant, const std::string& topic_name,
+         const eprosima::fastdds::dds::DataWriterQos& qos)
       : participant_(participant) {
     auto* topic = participant.GetTopic(
         topic_name, eprosima::fastdds::dds::TypeSupport(new PubSubType()), &error_);
     if (topic == nullptr) return;
     writer_ = participant.publisher()->create_datawriter(
-        topic, WriterQos(stream, ownership_strength), this,
-        eprosima::fastdds::dds::StatusMask::publication_matched());
+        topic, qos, this, eprosima::fastdds::dds::StatusMask::publication_matched());
     if (writer_ == nullptr) error_ = "cannot create a DDS writer on " + topic_name;
   }
   ~Writer() override {

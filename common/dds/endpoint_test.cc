@@ -113,6 +113,21 @@ TEST(ParticipantTest, RefusesATakenTcpListeningPort) {
   ::rmdir(dir);
 }
 
+TEST(QosTest, VideoWritersRepairAtTheGivenPeriodWithoutPiggybackedHeartbeats) {
+  const auto fallback = WriterQos(Stream::kVideo);
+  EXPECT_TRUE(fallback.reliable_writer_qos().disable_heartbeat_piggyback);
+  EXPECT_EQ(fallback.reliable_writer_qos().times.heartbeatPeriod,
+            eprosima::fastrtps::Duration_t(0, 50'000'000));
+  const auto wan = VideoWriterQos(std::chrono::milliseconds(1250));
+  EXPECT_EQ(wan.reliable_writer_qos().times.heartbeatPeriod,
+            eprosima::fastrtps::Duration_t(1, 250'000'000));
+  EXPECT_TRUE(wan.reliable_writer_qos().disable_heartbeat_piggyback);
+  EXPECT_EQ(wan.reliability().kind, fallback.reliability().kind);
+  EXPECT_EQ(wan.history().depth, 1);
+  // Other streams keep the piggybacked heartbeat that acknowledges them quickly.
+  EXPECT_FALSE(WriterQos(Stream::kState).reliable_writer_qos().disable_heartbeat_piggyback);
+}
+
 TEST(EndpointTest, ScanFlowsBetweenParticipants) {
   auto robot = MakeParticipant("robot");
   auto op = MakeParticipant("operator");

@@ -60,6 +60,11 @@ fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
   if (c.reliability == fdds::RELIABLE_RELIABILITY_QOS) {
     qos.reliable_writer_qos().times.heartbeatPeriod = Duration_t(0, 50'000'000);
   }
+  if (stream == Stream::kVideo) {
+    // Periodic heartbeats only: one per write would make every reader that misses fragments of
+    // an earlier pair ask for them again at the frame rate.
+    qos.reliable_writer_qos().disable_heartbeat_piggyback = true;
+  }
   // Writers never block the caller: a full transport (TCP on a slow link) must not freeze a
   // capture, control or UI thread. Samples are handed to Fast DDS's sending thread; with
   // keep-last 1 a newer sample replaces one not yet sent.
@@ -72,6 +77,14 @@ fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
     qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);
     qos.liveliness().announcement_period = Duration_t(kCommandLivelinessSeconds / 3);
   }
+  return qos;
+}
+
+fdds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period) {
+  fdds::DataWriterQos qos = WriterQos(Stream::kVideo);
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(repair_period).count();
+  qos.reliable_writer_qos().times.heartbeatPeriod = Duration_t(
+      static_cast<int32_t>(ns / 1'000'000'000), static_cast<uint32_t>(ns % 1'000'000'000));
   return qos;
 }
 

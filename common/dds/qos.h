@@ -1,19 +1,19 @@
 // QoS per stream kind: the one place where mostar's DDS QoS is defined.
 //
-// | stream   | reliability | history     | durability      | other |
-// |----------|-------------|-------------|-----------------|----------------------------------------|
-// | kVideo   | reliable    | keep last 1 | volatile        | heartbeat 50 ms; the publisher skips a
-// frame while the previous one is unacknowledged (ack-clock), so video never offers more than the
-// link carries; best-effort readers (ROS tools) match too | | kSensor  | best effort | keep last 5
-// | volatile        | scans, odometry (ROS SensorDataQoS-compatible) | | kCommand | reliable    |
-// keep last 1 | volatile        | exclusive ownership, deadline 200 ms, manual-by-topic liveliness
-// 500 ms | | kState   | reliable    | keep last 1 | transient local | lease, health: late joiners
-// get the latest | | kControl | reliable    | keep last 10| volatile        | control requests,
-// e-stop, clock probes |
+// - kVideo: reliable, keep last 1, volatile. Heartbeat every `repair_period` (50 ms by
+//   default), none piggybacked on writes; the publisher skips a pair while the previous one is
+//   unacknowledged (ack-clock), so video never offers more than the link carries. Best-effort
+//   readers (ROS tools) match too.
+// - kSensor: best effort, keep last 5, volatile: scans, odometry (ROS SensorDataQoS-compatible).
+// - kCommand: reliable, keep last 1, volatile; exclusive ownership, deadline 200 ms,
+//   manual-by-topic liveliness 500 ms.
+// - kState: reliable, keep last 1, transient local: lease, health (late joiners get the latest).
+// - kControl: reliable, keep last 10, volatile: control requests, e-stop, clock probes.
 // All writers publish asynchronously (Fast DDS's own sending thread), so write() never blocks
 // the caller on a full transport.
 #pragma once
 
+#include <chrono>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
@@ -25,6 +25,14 @@ const char* StreamName(Stream stream);
 
 // `ownership_strength` is used for kCommand writers only (exclusive ownership).
 eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength = 0);
+
+// Default heartbeat period of the video writers.
+constexpr std::chrono::milliseconds kDefaultVideoRepairPeriod{50};
+// kVideo writer QoS with heartbeat period `repair_period` (> 0): how often readers are asked
+// what they miss, and so how often a lost fragment is sent again. Fast DDS 2.9 answers every
+// NACK_FRAG at once (no NACK suppression for fragments), so a period shorter than the round
+// trip sends each lost fragment several times: on long links set it to about the round trip.
+eprosima::fastdds::dds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period);
 eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 
 // Deadline of the command stream: a pilot that sends nothing for this long is considered gone.

@@ -5,13 +5,16 @@
 # Usage:
 #   make_pki.sh OUT_DIR [--robot NAME] [--pilot NAME ...] [--observer NAME ...]
 #                       [--relay NAME ...] [--profile BASE.xml] [--domains MIN-MAX]
-#                       [--org ORG] [--days N]
+#                       [--profile-dir DIR] [--org ORG] [--days N]
 #
 #   --robot NAME     the robot_server identity (default: robot)
 #   --pilot NAME     an operator allowed to drive (repeatable)
 #   --observer NAME  an operator allowed to watch only (repeatable)
 #   --relay NAME     a mostar_relay identity (repeatable)
 #   --profile FILE   DDS XML profiles file to make secure copies of (default: deploy/dds/lan.xml)
+#   --profile-dir D  per-participant profiles: NAME's secure copy is made from D/NAME.dds.xml
+#                    when that file exists (deploy/wan/make_overlay.sh writes them), else
+#                    from --profile
 #   --domains A-B    DDS domain ids the permissions cover (default 0-232)
 #
 # Produces in OUT_DIR (existing CAs are reused, so participants can be added later):
@@ -49,6 +52,7 @@ robot=robot
 pilots=(); observers=(); relays=()
 here=$(cd "$(dirname "$0")" && pwd)
 profile="$here/../dds/lan.xml"
+profile_dir=""
 domain_min=0; domain_max=232
 org=mostar
 days=3650
@@ -59,6 +63,7 @@ while [ $# -gt 0 ]; do
     --observer) observers+=("$2"); shift 2 ;;
     --relay) relays+=("$2"); shift 2 ;;
     --profile) profile=$2; shift 2 ;;
+    --profile-dir) profile_dir=$(cd "$2" && pwd) || die "no directory $2"; shift 2 ;;
     --domains) domain_min=${2%-*}; domain_max=${2#*-}; shift 2 ;;
     --org) org=$2; shift 2 ;;
     --days) days=$2; shift 2 ;;
@@ -219,9 +224,11 @@ make_profile() {  # name
         </propertiesPolicy>
 EOF
 )
-  grep -q "mostar:security" "$profile" || die "$profile has no <!-- mostar:security --> marker"
+  local source=$profile
+  if [ -n "$profile_dir" ] && [ -f "$profile_dir/$1.dds.xml" ]; then source="$profile_dir/$1.dds.xml"; fi
+  grep -q "mostar:security" "$source" || die "$source has no <!-- mostar:security --> marker"
   PROPS="$props" awk '{ if ($0 ~ /<!-- mostar:security -->/) { match($0, /^ */); printf "%s%s\n", substr($0, 1, RLENGTH), ENVIRON["PROPS"] } else print }' \
-    "$profile" > "$1.xml"
+    "$source" > "$1.xml"
 }
 
 make_identity "$robot"

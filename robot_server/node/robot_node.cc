@@ -45,6 +45,10 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
     if (error) *error = "the video lane timeout must be positive";
     return nullptr;
   }
+  if (video.repair_period <= std::chrono::milliseconds::zero()) {
+    if (error) *error = "the video repair period must be positive";
+    return nullptr;
+  }
   std::unique_ptr<RobotNode> node(new RobotNode());
   node->clock_ = clock;
   node->participant_ = participant;
@@ -52,10 +56,11 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   node->lane_timeout_ = video.lane_timeout;
   RobotNode* self = node.get();
   auto& p = *participant;
+  const auto video_qos = dds::VideoWriterQos(video.repair_period);
   for (int i = 0; i < video.window_pairs; ++i) {
     VideoLane lane;
-    lane.left = std::make_unique<ImageWriter>(p, topics::kCameraLeft, Stream::kVideo);
-    lane.right = std::make_unique<ImageWriter>(p, topics::kCameraRight, Stream::kVideo);
+    lane.left = std::make_unique<ImageWriter>(p, topics::kCameraLeft, video_qos);
+    lane.right = std::make_unique<ImageWriter>(p, topics::kCameraRight, video_qos);
     node->lanes_.push_back(std::move(lane));
   }
   node->left_info_ = std::make_unique<decltype(node->left_info_)::element_type>(

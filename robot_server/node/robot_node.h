@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "common/dds/endpoint.h"
+#include "common/dds/qos.h"
 #include "common/time/time.h"
 #include "common/timesync/clock_offset_estimator.h"
 #include "common/types/commands.h"
@@ -38,6 +39,9 @@ struct RobotVideoOptions {
   int window_pairs = 4;
   // A lane whose pair some reader has not acknowledged for this long is used again; > 0.
   Duration lane_timeout = std::chrono::milliseconds(2000);
+  // Heartbeat period of the video writers (dds::VideoWriterQos): about the round trip on long
+  // links; > 0.
+  std::chrono::milliseconds repair_period = dds::kDefaultVideoRepairPeriod;
 };
 
 class RobotNode final : public RobotLink {

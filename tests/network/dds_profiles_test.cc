@@ -81,6 +81,7 @@ void CheckWan();
 void CheckWanViaRelay();
 void CheckDiscoveryServer();
 void CheckWanUdp();
+void CheckOverlay();
 void CheckUnknownProfile();
 
 TEST_F(DdsProfilesTest, LanProfilesUseUdpAndLargeSharedMemory) { IN_OWN_PROCESS(CheckLan()); }
@@ -91,6 +92,9 @@ TEST_F(DdsProfilesTest, DiscoveryServerProfilesAreClientsOfServerZero) {
 }
 TEST_F(DdsProfilesTest, WanUdpProfilesAreUnicastWithSmallFragments) {
   IN_OWN_PROCESS(CheckWanUdp());
+}
+TEST_F(DdsProfilesTest, OverlayProfilesUseOnlyTheOverlayAndDialTheRobot) {
+  IN_OWN_PROCESS(CheckOverlay());
 }
 TEST_F(DdsProfilesTest, UnknownProfileNameIsRefused) { IN_OWN_PROCESS(CheckUnknownProfile()); }
 
@@ -189,6 +193,37 @@ void CheckWanUdp() {
     if (dials) {
       ASSERT_EQ(peers.size(), 1u) << name;
       EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "203.0.113.10") << name;
+    }
+  }
+}
+
+// The template deploy/wan/make_overlay.sh fills per peer: its defaults are hub 10.77.0.1 and
+// robot 10.77.0.2.
+void CheckOverlay() {
+  for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
+    const auto qos = Load("overlay.xml", name);
+    ExpectWanLease(qos, std::string("overlay.xml ") + name);
+    EXPECT_FALSE(qos.transport().use_builtin_transports) << name;
+    const auto udp = Transports<UDPv4TransportDescriptor>(qos);
+    ASSERT_EQ(udp.size(), 1u) << name;
+    EXPECT_EQ(qos.transport().user_transports.size(), 1u) << name << ": UDP only";
+    // Room for the DDS Security handshake (Fast DDS 2.9 sizes it by maxMessageSize; it needs
+    // about 5 KB), small enough that a lost packet costs a few KB of repair, not 64 KB.
+    EXPECT_GE(udp[0]->maxMessageSize, 8192u) << name;
+    EXPECT_LE(udp[0]->maxMessageSize, 16384u) << name;
+    // The overlay address, and loopback for participants of the same computer.
+    EXPECT_EQ(udp[0]->interfaceWhiteList, (std::vector<std::string>{"10.77.0.2", "127.0.0.1"}))
+        << name;
+    // Unicast discovery: operators and the relay's robot side dial the robot's overlay address.
+    const auto& discovery = qos.wire_protocol().builtin.discovery_config;
+    EXPECT_EQ(discovery.discoveryProtocol, frtps::rtps::DiscoveryProtocol_t::SIMPLE) << name;
+    const auto& peers = qos.wire_protocol().builtin.initialPeersList;
+    const bool dials = std::string(name) == "operator" || std::string(name) == "relay";
+    if (dials) {
+      ASSERT_EQ(peers.size(), 1u) << name;
+      EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "10.77.0.2") << name;
+    } else {
+      EXPECT_EQ(peers.size(), 0u) << name;
     }
   }
 }

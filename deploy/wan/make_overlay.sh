@@ -1,0 +1,166 @@
+#!/usr/bin/env bash
+# Creates the WireGuard overlay that carries mostar across the Internet: one hub on a public
+# host, every robot and operator a peer that dials out to it (no inbound port anywhere but the
+# hub's UDP port; keepalives hold the NAT mappings; a peer may change its public address).
+# Peers reach each other through the hub, which forwards between them inside the tunnel only.
+#
+# Usage:
+#   make_overlay.sh OUT_DIR --hub-endpoint HOST:PORT [--peer NAME[:PUBLIC_KEY] ...]
+#                   [--observer NAME[:PUBLIC_KEY] ...]
+#                   [--robot robot] [--subnet 10.77.0] [--mtu 1420] [--keepalive-s 15]
+#                   [--dds-template deploy/dds/overlay.xml]
+#
+#   --hub-endpoint HOST:PORT  the public host's address (or DNS name) and UDP port
+#   --peer NAME               a robot or operator computer; its key pair is made here
+#   --peer NAME:PUBLIC_KEY    a peer that made its own key (`wg genkey | tee mostar.key |
+#                             wg pubkey`): only its public key comes here, and its config
+#                             reads the private key from /etc/wireguard/mostar.key
+#   --observer NAME[:KEY]     a computer that only watches, through mostar_relay on the hub:
+#                             like --peer, but its DDS profiles dial the hub, not the robot
+#   --robot NAME              which peer is the robot (default: robot), the one operators dial
+#   --subnet A.B.C            the overlay's /24 (default 10.77.0): hub .1, peers from .2 in
+#                             the order they are first named
+# Running it again with new names adds peers with the same hub and the same addresses for the
+# existing ones (state in OUT_DIR/peers.tsv); the hub's config is rewritten: reload it with
+# `wg syncconf mostar-hub <(wg-quick strip mostar-hub)`.
+#
+# Produces in OUT_DIR (private keys mode 0600):
+#   hub.key, hub.pub, mostar-hub.conf   the hub's wg-quick config (listens on PORT, forwards
+#                                       between peers only)
+#   hub.dds.xml                         DDS profiles for a mostar_relay on the hub
+#   NAME.conf                           the peer's wg-quick config (interface "mostar" once
+#                                       installed as /etc/wireguard/mostar.conf)
+#   NAME.dds.xml                        the DDS profiles for that peer: UDP over the overlay
+#                                       only, dialling the robot (observers: the hub; see
+#                                       deploy/dds/overlay.xml); pass the directory to
+#                                       make_pki.sh --profile-dir, then NAME.xml to the program
+#   peers.tsv                           name, overlay address, public key, who made the key,
+#                                       role (peer or observer)
+# Copy to each computer only its own NAME.conf (and NAME.dds.xml). The hub never sees a peer's
+# private key when the peer made its own.
+set -euo pipefail
+
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
+die() { echo "make_overlay.sh: $*" >&2; exit 1; }
+
+[ $# -ge 1 ] || usage
+case "$1" in -h|--help) usage ;; esac
+out=$1; shift
+here=$(cd "$(dirname "$0")" && pwd)
+endpoint="" subnet=10.77.0 mtu=1420 keepalive=15 robot=robot
+template="$here/../dds/overlay.xml"
+peers=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --hub-endpoint) endpoint=$2; shift 2 ;;
+    --peer) peers+=("peer:$2"); shift 2 ;;
+    --observer) peers+=("observer:$2"); shift 2 ;;
+    --subnet) subnet=$2; shift 2 ;;
+    --robot) robot=$2; shift 2 ;;
+    --mtu) mtu=$2; shift 2 ;;
+    --keepalive-s) keepalive=$2; shift 2 ;;
+    --dds-template) template=$2; shift 2 ;;
+    -h|--help) usage ;;
+    *) die "unknown option $1" ;;
+  esac
+done
+[ -n "$endpoint" ] || die "--hub-endpoint HOST:PORT is required"
+[[ "$endpoint" =~ ^[A-Za-z0-9.:-]+:[0-9]+$ ]] || die "--hub-endpoint must be HOST:PORT"
+[[ "$subnet" =~ ^[0-9]+\.[0-9]+\.[0-9]+$ ]] || die "--subnet must be three octets, e.g. 10.77.0"
+[ -f "$template" ] || die "no DDS template $template"
+command -v wg >/dev/null || die "wg is required (Debian package wireguard-tools)"
+port=${endpoint##*:}
+
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+umask 077
+touch "$out/peers.tsv"
+
+if [ ! -f "$out/hub.key" ]; then
+  wg genkey > "$out/hub.key"
+  wg pubkey < "$out/hub.key" > "$out/hub.pub"
+fi
+
+# Add new peers to peers.tsv (name, address, public key; "own" marks a peer-made key).
+for tagged in "${peers[@]}"; do
+  role=${tagged%%:*}
+  spec=${tagged#*:}
+  name=${spec%%:*}
+  key=""
+  [ "$name" = "$spec" ] || key=${spec#*:}
+  [[ "$name" =~ ^[A-Za-z0-9_.-]+$ ]] || die "peer name '$name' must be [A-Za-z0-9_.-]+"
+  [ "$name" != hub ] || die "'hub' is the public host's name"
+  if awk -v n="$name" '$1 == n { found = 1 } END { exit !found }' "$out/peers.tsv"; then
+    continue
+  fi
+  last=$(awk 'BEGIN { m = 1 } { split($2, a, "."); if (a[4] > m) m = a[4] } END { print m }' \
+    "$out/peers.tsv")
+  [ "$last" -lt 254 ] || die "the /24 is full"
+  own=made
+  if [ -z "$key" ]; then
+    wg genkey > "$out/$name.key"
+    key=$(wg pubkey < "$out/$name.key")
+  else
+    [[ "$key" =~ ^[A-Za-z0-9+/]{43}=$ ]] || die "public key of $name is not a WireGuard key"
+    own=own
+  fi
+  printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$subnet.$((last + 1))" "$key" "$own" "$role" \
+    >> "$out/peers.tsv"
+done
+
+# The hub: listens, forwards between peers inside the overlay and nowhere else.
+{
+  echo "# mostar overlay hub (wg-quick). Install as /etc/wireguard/mostar-hub.conf."
+  echo "[Interface]"
+  echo "Address = $subnet.1/24"
+  echo "ListenPort = $port"
+  echo "MTU = $mtu"
+  echo "PrivateKey = $(cat "$out/hub.key")"
+  echo "# Forward between peers (packets that came in on this interface), never out of it."
+  echo "PostUp = sysctl -qw net.ipv4.conf.%i.forwarding=1"
+  echo "PostUp = nft add table inet mostar_hub; nft add chain inet mostar_hub forward '{ type filter hook forward priority 0; }'; nft add rule inet mostar_hub forward iifname %i oifname != %i drop"
+  echo "PostDown = nft delete table inet mostar_hub"
+  while IFS=$'\t' read -r name addr key _; do
+    echo
+    echo "[Peer]"
+    echo "# $name"
+    echo "PublicKey = $key"
+    echo "AllowedIPs = $addr/32"
+  done < "$out/peers.tsv"
+} > "$out/mostar-hub.conf"
+
+robot_addr=$(awk -v n="$robot" -F'\t' '$1 == n { print $2 }' "$out/peers.tsv")
+[ -n "$robot_addr" ] || die "no peer named $robot (the robot; see --robot)"
+while IFS=$'\t' read -r name addr key own role; do
+  {
+    echo "# mostar overlay peer $name ($addr). Install as /etc/wireguard/mostar.conf."
+    echo "[Interface]"
+    echo "Address = $addr/24"
+    echo "MTU = $mtu"
+    if [ "$own" = made ]; then
+      echo "PrivateKey = $(cat "$out/$name.key")"
+    else
+      echo "PostUp = wg set %i private-key /etc/wireguard/mostar.key"
+    fi
+    echo
+    echo "[Peer]"
+    echo "# hub"
+    echo "PublicKey = $(cat "$out/hub.pub")"
+    echo "Endpoint = $endpoint"
+    echo "AllowedIPs = $subnet.0/24"
+    echo "PersistentKeepalive = $keepalive"
+  } > "$out/$name.conf"
+  # Operators dial the robot; observers dial the relay on the hub.
+  dials=$robot_addr
+  [ "$role" != observer ] || dials=$subnet.1
+  sed -e "/mostar:overlay-address/ s#<address>[0-9.]*</address>#<address>$addr</address>#" \
+      -e "/mostar:robot-address/ s#<address>[0-9.]*</address>#<address>$dials</address>#" \
+      "$template" > "$out/$name.dds.xml"
+  chmod 0644 "$out/$name.dds.xml"
+done < "$out/peers.tsv"
+# The hub's own DDS profiles (for mostar_relay on the hub).
+sed -e "/mostar:overlay-address/ s#<address>[0-9.]*</address>#<address>$subnet.1</address>#" \
+    -e "/mostar:robot-address/ s#<address>[0-9.]*</address>#<address>$robot_addr</address>#" \
+    "$template" > "$out/hub.dds.xml"
+chmod 0644 "$out/hub.pub" "$out/peers.tsv" "$out/hub.dds.xml"
+echo "make_overlay.sh: hub $endpoint ($subnet.1), peers: $(cut -f1,2 "$out/peers.tsv" | tr '\t\n' '= ')"

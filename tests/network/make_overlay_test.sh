@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# deploy/wan/make_overlay.sh: the hub's and peers' WireGuard configs agree on keys and
+# addresses, a peer with its own key never has a private key written for it, a second run adds
+# peers and keeps the existing ones, the DDS profiles carry each peer's overlay address, and bad
+# arguments are refused with a message.
+# Usage: make_overlay_test.sh SOURCE_DIR. Exit 77 (skipped) without wg/wg-quick or python3.
+set -euo pipefail
+src=$1
+gen="$src/deploy/wan/make_overlay.sh"
+for tool in wg wg-quick python3; do
+  command -v "$tool" >/dev/null || { echo "make_overlay_test: $tool is missing" >&2; exit 77; }
+done
+umask 077
+work=$(mktemp -d /tmp/mostar_overlay_gen_XXXXXX)
+trap 'rm -rf "$work"' EXIT
+failures=0
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
+field() { awk -v n="$1" -v c="$2" -F'\t' '$1 == n { print $c }' "$work/out/peers.tsv"; }
+conf_value() { sed -n "s/^$2 = //p" "$1" | head -1; }
+
+wg genkey > "$work/bob.key"
+bob_pub=$(wg pubkey < "$work/bob.key")
+"$gen" "$work/out" --hub-endpoint hub.example.org:51820 --peer robot --peer alice \
+  --peer "bob:$bob_pub" --observer dave > "$work/log"
+out="$work/out"
+
+check "four peers with consecutive addresses" \
+  '[ "$(field robot 2) $(field alice 2) $(field bob 2) $(field dave 2)" = "10.77.0.2 10.77.0.3 10.77.0.4 10.77.0.5" ]'
+check "the hub config names every peer's public key once" \
+  '[ "$(grep -c "^PublicKey = " "$out/mostar-hub.conf")" = 4 ] &&
+   grep -q "^PublicKey = $(field alice 3)$" "$out/mostar-hub.conf" &&
+   grep -q "^PublicKey = $bob_pub$" "$out/mostar-hub.conf"'
+check "the hub routes each peer's /32 only" \
+  '[ "$(grep "^AllowedIPs" "$out/mostar-hub.conf" | tr "\n" " ")" = "AllowedIPs = 10.77.0.2/32 AllowedIPs = 10.77.0.3/32 AllowedIPs = 10.77.0.4/32 AllowedIPs = 10.77.0.5/32 " ]'
+check "the hub listens on the endpoint's port and forwards inside the overlay only" \
+  '[ "$(conf_value "$out/mostar-hub.conf" ListenPort)" = 51820 ] &&
+   grep -q "oifname != %i drop" "$out/mostar-hub.conf"'
+check "a peer's private key matches the public key the hub has for it" \
+  '[ "$(conf_value "$out/robot.conf" PrivateKey | wg pubkey)" = "$(field robot 3)" ]'
+check "every peer dials the hub with a keepalive and routes the whole overlay to it" \
+  '[ "$(conf_value "$out/alice.conf" Endpoint)" = hub.example.org:51820 ] &&
+   [ "$(conf_value "$out/alice.conf" PublicKey)" = "$(cat "$out/hub.pub")" ] &&
+   [ "$(conf_value "$out/alice.conf" AllowedIPs)" = 10.77.0.0/24 ] &&
+   [ -n "$(conf_value "$out/alice.conf" PersistentKeepalive)" ]'
+check "a peer with its own key gets no private key, only a PostUp that reads it" \
+  '! grep -q PrivateKey "$out/bob.conf" && [ ! -e "$out/bob.key" ] &&
+   grep -q "^PostUp = wg set %i private-key /etc/wireguard/mostar.key" "$out/bob.conf"'
+check "private keys are readable by their owner only" \
+  '[ "$(stat -c %a "$out/hub.key")" = 600 ] && [ "$(stat -c %a "$out/robot.conf")" = 600 ]'
+for f in mostar-hub robot alice bob; do
+  cp "$out/$f.conf" "$work/t$f.conf"
+  check "wg-quick parses $f.conf" 'wg-quick strip "$work/t$f.conf" > "$work/$f.stripped"'
+done
+check "the stripped configs are valid wg syntax with the right keys" \
+  'grep -q "^PrivateKey = $(cat "$out/hub.key")$" "$work/mostar-hub.stripped"'
+
+profile_values() {  # file -> whitelisted addresses, then PROFILE=INITIAL_PEERS for each profile
+  python3 - "$1" <<'EOF'
+import sys, xml.etree.ElementTree as ET
+ns = {"d": "http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"}
+root = ET.parse(sys.argv[1]).getroot()
+white = [a.text for a in root.findall(".//d:interfaceWhiteList/d:address", ns)]
+out = [",".join(white)]
+for p in root.findall(".//d:participant", ns):
+    peers = [a.text for a in p.findall(".//d:initialPeersList//d:address", ns)]
+    out.append("%s=%s" % (p.get("profile_name"), ",".join(peers) or "-"))
+print(" ".join(out))
+EOF
+}
+check "alice's DDS profiles announce only her overlay address and dial the robot" \
+  '[ "$(profile_values "$out/alice.dds.xml")" = "10.77.0.3,127.0.0.1 robot=- operator=10.77.0.2 relay=10.77.0.2 relay_observers=-" ]'
+check "an observer's DDS profiles dial the relay on the hub" \
+  '[ "$(profile_values "$out/dave.dds.xml")" = "10.77.0.5,127.0.0.1 robot=- operator=10.77.0.1 relay=10.77.0.1 relay_observers=-" ]'
+check "the hub's DDS profiles (a relay there) use its own address and dial the robot" \
+  '[ "$(profile_values "$out/hub.dds.xml")" = "10.77.0.1,127.0.0.1 robot=- operator=10.77.0.2 relay=10.77.0.2 relay_observers=-" ]'
+check "the robot's profile dials no one (operators announce themselves to it)" \
+  '[ "$(profile_values "$out/robot.dds.xml")" = "10.77.0.2,127.0.0.1 robot=- operator=10.77.0.2 relay=10.77.0.2 relay_observers=-" ]'
+check "the DDS profiles keep the security marker for make_pki.sh" \
+  '[ "$(grep -c "<!-- mostar:security -->" "$out/alice.dds.xml")" = 4 ]'
+
+robot_key=$(field robot 3)
+"$gen" "$out" --hub-endpoint hub.example.org:51820 --peer carol --peer robot > "$work/log2"
+check "a second run keeps the existing peers' addresses and keys" \
+  '[ "$(field robot 2)" = 10.77.0.2 ] && [ "$(field robot 3)" = "$robot_key" ]'
+check "a second run adds the new peer at the next address" '[ "$(field carol 2)" = 10.77.0.6 ]'
+check "the rewritten hub config has all five peers" \
+  '[ "$(grep -c "^\[Peer\]" "$out/mostar-hub.conf")" = 5 ]'
+
+refused() {  # expected message part, arguments...
+  local want=$1; shift
+  local msg
+  if msg=$("$gen" "$work/bad" "$@" 2>&1); then return 1; fi
+  [[ "$msg" == *"$want"* ]]
+}
+check "no hub endpoint is refused" 'refused "--hub-endpoint HOST:PORT is required" --peer x'
+check "an endpoint without a port is refused" 'refused "HOST:PORT" --hub-endpoint hub.example.org'
+check "a bad peer name is refused" 'refused "must be" --hub-endpoint h:1 --peer "a b"'
+check "a malformed public key is refused" 'refused "not a WireGuard key" --hub-endpoint h:1 --peer x:abc'
+check "a peer named hub is refused" 'refused "public host" --hub-endpoint h:1 --peer hub'
+check "an overlay without its robot is refused" 'refused "no peer named robot" --hub-endpoint h:1 --peer alice'
+
+[ "$failures" -eq 0 ] || exit 1
+echo "make_overlay_test: all checks passed"

@@ -1,0 +1,292 @@
+#!/usr/bin/env bash
+# The Internet deployment under outages: robot behind NAT A, pilot and observer 1 behind NAT B
+# (one public address), observer 2 behind NAT C, a hub on the public host
+# (tests/network/nat_topology.sh), every public link through netem_relay (50 ms one-way, 5 ms
+# jitter, 1 % loss each way, 8 Mbit/s; host to host through the hub: 100 ms one-way).
+#
+# Path "overlay": a WireGuard overlay (deploy/wan/make_overlay.sh, brought up with wg-quick and
+# wireguard-go) and the per-peer UDP profiles the generator writes from deploy/dds/overlay.xml,
+# with DDS Security on top (make_pki.sh) unless SECURE=0.
+#
+# Each run starts everything afresh: robot_server (simulator), a headless operator_client
+# pilot driving forward at SPEED, net_probe observers obs1 and obs2. Once the robot drives and
+# PRE_S seconds have passed, the robot's uplink is cut both ways (nftables in NAT A) for the
+# run's outage, or NAT A gets a new public address ("readdress"); then POST_S seconds are
+# measured and every program gets SIGTERM.
+#
+# One Markdown row per run:
+#   stop        last accepted command's arrival -> drive output 0 on the robot (ms)
+#   stale       any nonzero drive output from stop + 100 ms until the first command accepted
+#               after the link came back (the robot moved on old commands)
+#   drive       link back -> first nonzero drive output (s)
+#   video back  link back -> first left image captured after it, at the pilot, obs1, obs2 (s)
+#   fresh       link back -> first left image younger than FRESH_MS at each of them (s)
+#   steady      before the cut, at obs2: stereo pairs/s, left age p50/p95 (ms), scan age p95;
+#               what the robot sent into the overlay over PRE_S (Mbit/s)
+#   exit        SIGTERM -> exit of every program (max, s); "hang" when one needed SIGKILL
+#
+# Usage: nat_bench.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR
+# Environment: RUNS ("5": outage seconds or "readdress", one run each; e.g. "5 5 30 readdress"),
+# OBSERVERS ("obs1 obs2": which observers run), VIA ("relay": observers watch through
+# mostar_relay on the hub, so the robot's uplink carries two copies of the video, the pilot's
+# and the relay's, whatever the number of observers; "direct": every observer subscribes to the
+# robot), SECURE (1: DDS Security on top of the overlay, made by make_pki.sh; 0: off),
+# PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
+# KEEP_WORK=1 keeps logs and traces. Prints RESULT lines (key=value) for the test wrapper.
+# Needs root, nftables, wireguard-go, wireguard-tools, openssl, xvfb-run and python3;
+# exit 77 (skipped) without them.
+set -euo pipefail
+[ $# -eq 6 ] || {
+  echo "usage: nat_bench.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR" >&2
+  exit 2
+}
+robot_server=$1; operator_client=$2; net_probe=$3; netem_relay=$4; mostar_relay=$5; src=$6
+here=$(cd "$(dirname "$0")" && pwd)
+"$here/netns.sh" check || exit 77
+for tool in nft wg wg-quick wireguard-go openssl xvfb-run python3; do
+  command -v "$tool" >/dev/null || { echo "nat_bench: $tool is missing" >&2; exit 77; }
+done
+[ -c /dev/net/tun ] || { echo "nat_bench: /dev/net/tun is missing" >&2; exit 77; }
+
+runs=${RUNS:-5}
+pre_s=${PRE_S:-4}
+post_s=${POST_S:-15}
+speed=${SPEED:-0.2}
+fresh_ms=${FRESH_MS:-200}
+video_hz=${VIDEO_HZ:-15}
+video_quality=${VIDEO_QUALITY:-60}
+observers=${OBSERVERS-obs1 obs2}
+via=${VIA:-relay}
+secure=${SECURE:-1}
+
+prefix="mn$$"
+tag=$(echo -n "$prefix" | md5sum | cut -c1-4)
+work=$(mktemp -d /tmp/mostar_nat_XXXXXX)
+pids=()
+export WG_QUICK_USERSPACE_IMPLEMENTATION=wireguard-go
+hosts=(robot pilot obs1 obs2)
+
+teardown() {  # ends one run's topology: programs, WireGuard sockets, namespaces
+  for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  pids=()
+  "$here/nat_topology.sh" down "$prefix" >/dev/null 2>&1 || true
+  rm -f /var/run/wireguard/w"$tag"*.sock
+}
+cleanup() {
+  teardown
+  pkill -9 -f "$work" 2>/dev/null || true
+  if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
+}
+trap cleanup EXIT
+trap "exit 1" INT TERM
+
+# Configuration of the simulator: the shipped one with this bench's video settings.
+sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" \
+    -e "s|jpeg_quality: [0-9]*|jpeg_quality: $video_quality|" \
+    -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
+    "$src/deploy/config/server_sim.pbtxt" > "$work/server.pbtxt"
+# The Internet recipe's video settings (docs/networking.md): repairs about once per round trip.
+echo "dds { video_repair_period_ms: ${REPAIR_MS:-250} }" >> "$work/server.pbtxt"
+
+# Waits up to $2 tenths of a second for the shell condition $1.
+wait_for() {
+  local i
+  for i in $(seq "$2"); do eval "$1" && return 0; sleep 0.1; done
+  return 1
+}
+
+# Brings the topology and the overlay up for one run into directory $1.
+overlay_up() {
+  local run=$1 h
+  # (called in an || list, where set -e does not apply: every step says its failure)
+  "$here/nat_topology.sh" up "$prefix" --netem "$netem_relay" --log-dir "$run" >/dev/null ||
+    return 1
+  local observer_kind=--peer
+  [ "$via" != relay ] || observer_kind=--observer
+  "$src/deploy/wan/make_overlay.sh" "$run/overlay" --hub-endpoint 198.18.0.10:51820 \
+    --peer robot --peer pilot "$observer_kind" obs1 "$observer_kind" obs2 >/dev/null || return 1
+  if [ "$secure" = 1 ]; then
+    # DDS Security on top of the overlay, as the recipe does: NAME.xml from NAME.dds.xml. The
+    # pilot's certificate carries its client id, "operator" (the simulator's role table).
+    cp "$run/overlay/pilot.dds.xml" "$run/overlay/operator.dds.xml"
+    "$src/deploy/security/make_pki.sh" "$run/pki" --profile-dir "$run/overlay" \
+      --robot robot --pilot operator --observer obs1 --observer obs2 --relay hub \
+      >"$run/pki.log" 2>&1 || return 1
+    local h
+    for h in robot obs1 obs2 hub; do cp "$run/pki/$h.xml" "$run/overlay/$h.dds.xml"; done
+    cp "$run/pki/operator.xml" "$run/overlay/pilot.dds.xml"
+  fi
+  # wg-quick names the interface after the file: unique per bench, at most 15 characters.
+  cp "$run/overlay/mostar-hub.conf" "$run/w${tag}hub.conf"
+  ip netns exec "${prefix}_hub" wg-quick up "$run/w${tag}hub.conf" >"$run/wg_hub.log" 2>&1 ||
+    return 1
+  for h in "${hosts[@]}"; do
+    cp "$run/overlay/$h.conf" "$run/w$tag$h.conf"
+    ip netns exec "${prefix}_$h" wg-quick up "$run/w$tag$h.conf" >"$run/wg_$h.log" 2>&1 || return 1
+  done
+  # Every peer's handshake with the hub (keepalives start it).
+  for h in "${hosts[@]}"; do
+    wait_for "[ \"\$(wg show w$tag$h latest-handshakes | awk '{print \$2}')\" -gt 0 ] 2>/dev/null" 100 ||
+      { echo "nat_bench: no WireGuard handshake from $h" >&2; return 1; }
+  done
+}
+
+# Stops pid $1 with SIGTERM; prints the seconds it took, or "hang" after 10 s (then SIGKILL).
+stop_timed() {
+  local p=$1 t0 i
+  t0=$(date +%s%N)
+  kill -TERM "$p" 2>/dev/null || { echo 0; return; }
+  for i in $(seq 100); do
+    if ! kill -0 "$p" 2>/dev/null; then
+      wait "$p" 2>/dev/null || true
+      python3 -c "print('%.2f' % (($(date +%s%N) - $t0) / 1e9))"
+      return
+    fi
+    sleep 0.1
+  done
+  kill -KILL "$p" 2>/dev/null || true
+  echo hang
+}
+
+# pid of program `comm` inside namespace `ns`
+ns_pid_of() {
+  local p
+  for p in $(ip netns pids "$1" 2>/dev/null); do
+    [ "$(cat "/proc/$p/comm" 2>/dev/null)" = "$2" ] && { echo "$p"; return 0; }
+  done
+  return 0
+}
+
+run_one() {  # index, outage seconds or "readdress"
+  local i=$1 what=$2 run domain robot_pid xvfb_pid client_pid probe1 probe2 total exits
+  run="$work/run_$i"; mkdir -p "$run"
+  domain=$((100 + RANDOM % 100))
+  overlay_up "$run" || { echo "| $i | $what | overlay did not come up | | | | | | |"; teardown; return; }
+  local ov="$run/overlay"
+  ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
+    --dds-profile "$ov/robot.dds.xml" --config "$run/../server.pbtxt" --trace "$run/server.csv" \
+    >"$run/server.log" 2>&1 &
+  robot_pid=$!; pids+=("$robot_pid")
+  local n=${what//[!0-9]/}; n=${n:-0}
+  total=$((90 + n + post_s))
+  local obs_domain=$domain
+  if [ "$via" = relay ]; then
+    obs_domain=$((domain + 1))
+    ip netns exec "${prefix}_hub" "$mostar_relay" --dds-profile "$ov/hub.dds.xml" \
+      --robot-domain "$domain" --observer-domain "$obs_domain" >"$run/relay.log" 2>&1 &
+    pids+=($!)
+  fi
+  local relay_pid=${pids[-1]}
+  for h in $observers; do
+    ip netns exec "${prefix}_$h" "$net_probe" --domain "$obs_domain" --dds-profile "$ov/$h.dds.xml" \
+      --id "$h" --duration-s "$total" --samples "$run/$h.csv" >"$run/$h.log" 2>&1 &
+    pids+=($!)
+  done
+  probe1=""; probe2=""
+  [[ "$observers" != *obs1* ]] || probe1=${pids[-1]}
+  [[ "$observers" != *obs2* ]] || probe2=${pids[-1]}
+  [[ "$observers" != *"obs1 obs2"* ]] || probe1=${pids[-2]}
+  ip netns exec "${prefix}_pilot" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" \
+    "$operator_client" --headless --domain "$domain" --dds-profile "$ov/pilot.dds.xml" \
+    --id operator --role pilot --strength 10 --duration "$total" --drive "$speed,0" \
+    --calibration "$src/deploy/config/calibration_sim.pbtxt" --trace "$run/client.csv" \
+    >"$run/client.log" 2>&1 &
+  xvfb_pid=$!; pids+=("$xvfb_pid")
+
+  if ! wait_for "grep -q '^drive_out_mmps,[0-9]*,[1-9]' '$run/server.csv' 2>/dev/null" 600; then
+    echo "| $i | $what | the robot never drove | | | | | | |"
+    teardown; return
+  fi
+  local tx0 tx1
+  tx0=$(ip -n "${prefix}_robot" -s link show "w${tag}robot" | awk '/TX:/ { getline; print $1 }')
+  sleep "$pre_s"
+  tx1=$(ip -n "${prefix}_robot" -s link show "w${tag}robot" | awk '/TX:/ { getline; print $1 }')
+  echo "$(( (tx1 - tx0) * 8 / pre_s / 1000 ))" > "$run/uplink_kbit"
+  date +%s%N > "$run/t_down"
+  if [ "$what" = readdress ]; then
+    "$here/nat_topology.sh" readdress "$prefix" a 3
+  else
+    "$here/nat_topology.sh" outage "$prefix" a on
+    sleep "$n"
+    "$here/nat_topology.sh" outage "$prefix" a off
+  fi
+  date +%s%N > "$run/t_up"
+  sleep "$post_s"
+  date +%s%N > "$run/t_end"
+  client_pid=$(ns_pid_of "${prefix}_pilot" operator_client)
+  exits="client=$( [ -n "$client_pid" ] && stop_timed "$client_pid" || echo gone)"
+  [ -z "$probe1" ] || exits+=" obs1=$(stop_timed "$probe1")"
+  [ -z "$probe2" ] || exits+=" obs2=$(stop_timed "$probe2")"
+  exits+=" robot=$(stop_timed "$robot_pid")"
+  [ "$via" != relay ] || exits+=" relay=$(stop_timed "$relay_pid")"
+  echo "$exits" > "$run/exits"
+  teardown
+  python3 - "$run" "$i" "$what" "$fresh_ms" <<'EOF'
+import os, sys
+run, idx, what, fresh_ms = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
+rd = lambda f: int(open(os.path.join(run, f)).read())
+t_down, t_up, t_end = rd("t_down"), rd("t_up"), rd("t_end")
+def trace(name):
+    out = []
+    path = os.path.join(run, name)
+    if os.path.exists(path):
+        for line in open(path):
+            p = line.strip().split(",")
+            if len(p) == 3:
+                try: out.append((p[0], int(p[1]), int(p[2])))
+                except ValueError: pass
+    return out
+server = [x for x in trace("server.csv") if x[1] <= t_end]
+drive = [(t, v) for k, t, v in server if k == "drive_out_mmps"]
+accepted = sorted(t for k, t, v in server if k == "command_rx")
+before = [t for t in accepted if t < t_up]
+after = [t for t in accepted if t >= t_up]
+stop_ms, stale = "never", "no"
+if before:
+    last = before[-1]
+    stopped = next((t for t, v in drive if t > last and v == 0), None)
+    if stopped is not None:
+        stop_ms = "%.0f" % ((stopped - last) / 1e6)
+        resume_cmd = after[0] if after else t_end
+        stale = "yes" if any(v > 0 for t, v in drive if stopped + 1e8 < t < resume_cmd) else "no"
+drive_again = next((t for t, v in drive if t > t_up and v > 0), None)
+drive_s = "never" if drive_again is None else "%.1f" % ((drive_again - t_up) / 1e9)
+def after(samples, ok):  # link back -> first sample for which ok(receive, age)
+    t = next((rx for rx, age in samples if rx > t_up and ok(rx, age)), None)
+    return "never" if t is None else "%.1f" % ((t - t_up) / 1e9)
+pilot = [(t, t - st) for k, t, st in trace("client.csv") if k == "left_rx"]
+obs = {h: [(rx, rx - st) for k, rx, st in trace(h + ".csv") if k == "left"] for h in ("obs1", "obs2")}
+operators = (pilot, obs["obs1"], obs["obs2"])
+# Back: an image captured after the link came back; fresh: one younger than fresh_ms.
+back = " / ".join(after(s, lambda rx, age: rx - age > t_up) for s in operators)
+video = " / ".join(after(s, lambda rx, age: age < fresh_ms * 1e6) for s in operators)
+# Steady state at obs2 over the last 5 s before the cut.
+def pct(v, q):
+    v = sorted(v)
+    return v[min(len(v) - 1, int(q * len(v)))] if v else float("nan")
+win = [(rx, age) for rx, age in (obs["obs2"] or pilot) if t_down - 5e9 <= rx < t_down]
+scans = [rx - st for k, rx, st in trace("obs2.csv") if k == "scan" and t_down - 5e9 <= rx < t_down]
+uplink = int(open(os.path.join(run, "uplink_kbit")).read()) / 1000.0
+steady = "%.1f pairs/s, %.0f / %.0f ms, scan p95 %.0f ms; robot sends %.1f Mbit/s" % (
+    len(win) / 5.0, pct([a for _, a in win], 0.5) / 1e6, pct([a for _, a in win], 0.95) / 1e6,
+    pct(scans, 0.95) / 1e6, uplink)
+exits = dict(kv.split("=") for kv in open(os.path.join(run, "exits")).read().split())
+hangs = [k for k, v in exits.items() if v == "hang"]
+slowest = max((float(v) for v in exits.values() if v not in ("hang", "gone")), default=0.0)
+exit_cell = ("hang: " + ",".join(hangs)) if hangs else "%.2f" % slowest
+label = what + (" s" if what.isdigit() else "")
+print("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (idx, label, stop_ms, stale, drive_s, back, video, steady, exit_cell))
+print("RESULT run=%s stop_ms=%s stale=%s drive_s=%s back=%s fresh=%s exit=%s" % (
+    idx, stop_ms, stale, drive_s, back.replace(" ", ""), video.replace(" ", ""),
+    exit_cell.replace(" ", "")))
+EOF
+}
+
+echo "| run | outage | stop after last command (ms) | moved on stale commands? | driving again after link back (s) | video back after link back, pilot / obs1 / obs2 (s) | fresh video (age < ${fresh_ms} ms) after, pilot / obs1 / obs2 (s) | steady state at obs2 before the cut | slowest exit on SIGTERM (s) |"
+echo "|---|---|---|---|---|---|---|---|---|"
+i=0
+for what in $runs; do
+  i=$((i + 1))
+  run_one "$i" "$what"
+done

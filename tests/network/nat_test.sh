@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The Internet deployment as a test: one run of nat_bench.sh (robot behind NAT A, pilot and
+# observer 1 behind NAT B, observer 2 behind NAT C, 100 ms one-way through the hub, 1 % loss
+# on every public link) with a 5 s cut of the robot's uplink, whose result row is checked:
+# - the robot stops within deadman + ramp + slack (700 ms) of the last command before the cut
+#   and never moves on commands from before the link came back;
+# - after the link comes back the pilot drives again and the pilot and both observers get
+#   video captured after it, each within 10 s (the soak bench measures the p95 and the time
+#   to fresh video, which depends on the machine's load);
+# - SIGTERM ends every program within 2 s.
+# Usage: nat_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR
+# Exit 77 (CTest: skipped) where the bench cannot run.
+set -euo pipefail
+[ $# -eq 6 ] || { echo "usage: nat_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR" >&2; exit 2; }
+here=$(cd "$(dirname "$0")" && pwd)
+set +e
+out=$(RUNS=5 "$here/nat_bench.sh" "$@" 2>&1)
+status=$?
+set -e
+echo "$out"
+[ "$status" -ne 77 ] || exit 77
+[ "$status" -eq 0 ] || { echo "FAIL: nat_bench.sh exited with status $status"; exit 1; }
+line=$(echo "$out" | grep '^RESULT ' || true)
+[ -n "$line" ] || { echo "FAIL: no result"; exit 1; }
+value() { echo "$line" | tr ' ' '\n' | sed -n "s/^$1=//p"; }
+stop_ms=$(value stop_ms); stale=$(value stale); drive_s=$(value drive_s)
+back=$(value back); fresh=$(value fresh); exit_s=$(value exit)
+failures=0
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
+at_most() { [[ "$1" =~ ^[0-9]+(\.[0-9]+)?$ ]] && python3 -c "import sys; sys.exit(0 if $1 <= $2 else 1)"; }
+check "the robot stopped within 700 ms of the last command ($stop_ms ms)" 'at_most "$stop_ms" 700'
+check "the robot never moved on stale commands" '[ "$stale" = no ]'
+check "the pilot drove again within 10 s of the link coming back ($drive_s s)" 'at_most "$drive_s" 10'
+IFS=/ read -r v_pilot v_obs1 v_obs2 <<< "$back"
+check "video back at the pilot within 10 s ($v_pilot s)" 'at_most "$v_pilot" 10'
+check "video back at observer 1, behind the pilot's NAT, within 10 s ($v_obs1 s)" 'at_most "$v_obs1" 10'
+check "video back at observer 2, behind its own NAT, within 10 s ($v_obs2 s)" 'at_most "$v_obs2" 10'
+echo "nat_test: fresh video (age < 200 ms) after link back, pilot / obs1 / obs2: $fresh s"
+check "every program ended within 2 s of SIGTERM ($exit_s)" 'at_most "$exit_s" 2'
+[ "$failures" -eq 0 ] || exit 1
+echo "nat_test: all checks passed"
