@@ -250,6 +250,8 @@ if before:
         stop_ms = "%.0f" % ((stopped - last) / 1e6)
         resume_cmd = after[0] if after else t_end
         stale = "yes" if any(v > 0 for t, v in drive if stopped + 1e8 < t < resume_cmd) else "no"
+if what == "readdress" and stop_ms == "never":
+    stop_ms = "kept driving"
 drive_again = next((t for t, v in drive if t > t_up and v > 0), None)
 drive_s = "never" if drive_again is None else "%.1f" % ((drive_again - t_up) / 1e9)
 def after(samples, ok):  # link back -> first sample for which ok(receive, age)
