@@ -21,7 +21,7 @@
 #                 link back -> first left frame younger than 200 ms.
 #
 # Usage: outage_bench.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY SOURCE_DIR
-# Environment: OUTAGES ("5 25"), ATTEMPTS (3 per outage when the robot never drives),
+# Environment: PROFILE (wan.xml: TCP; wan_udp.xml: UDP unicast), OUTAGES ("5 25"), ATTEMPTS (3 per outage when the robot never drives),
 # PROBE=0 (no probe: two TCP clients from one address can starve one of them on Fast DDS 2.9;
 # the video cell then counts the pilot's frames captured after the link came back),
 # PROBE_LEAD_S (3: probe start before the pilot's), SPEED (0.2 m/s), PRE_S (3: driving before the cut), POST_S
@@ -87,7 +87,15 @@ if [ -n "${RTO_MAX_MS:-}" ]; then
 fi
 rns="${prefix}_robot"; ons="${prefix}_operator"
 
-sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
+# PROFILE: wan.xml (TCP, default) or wan_udp.xml (UDP unicast, as over a VPN). UDP participants
+# announce every interface address: leave only the emulated path up.
+profile=${PROFILE:-wan.xml}
+case "$profile" in wan.xml|wan_udp.xml) ;; *) echo "outage_bench: PROFILE must be wan.xml or wan_udp.xml" >&2; exit 2 ;; esac
+sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/$profile" > "$work/wan.xml"
+if [ "$profile" = wan_udp.xml ]; then
+  ip -n "$rns" link set veth0 down
+  ip -n "$ons" link set veth0 down
+fi
 # The shipped simulator configuration; only the video settings, the scene path and the health
 # period (the resolution of the verdict counters) change.
 sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" \

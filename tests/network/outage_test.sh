@@ -8,6 +8,7 @@
 # A run whose robot never drove before the cut (a known Fast DDS 2.9 start-up hang over TCP,
 # docs/networking.md) is repeated once, and says so.
 #
+# PROFILE=wan_udp.xml runs it over UDP unicast (the path of a VPN) instead of TCP (wan.xml).
 # Usage: outage_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY SOURCE_DIR
 # Exit 77 (CTest: skipped) where the bench cannot run (no namespaces, xvfb-run or python3).
 set -euo pipefail
@@ -16,7 +17,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 set +e
 # The pilot alone (PROBE=0): a second TCP client from the same address can starve on Fast DDS
 # 2.9 (docs/networking.md, known limits).
-out=$(PROBE=0 OUTAGES=5 POST_S=15 ATTEMPTS=2 VIDEO_HZ=15 VIDEO_QUALITY=60 "$here/outage_bench.sh" "$@" 2>&1)
+out=$(PROFILE=${PROFILE:-wan.xml} PROBE=0 OUTAGES=5 POST_S=15 ATTEMPTS=2 VIDEO_HZ=15 VIDEO_QUALITY=60 "$here/outage_bench.sh" "$@" 2>&1)
 status=$?
 set -e
 echo "$out"
