@@ -201,6 +201,13 @@ int Run(int argc, char** argv) {
   };
   sinks.control = [&](const ControlRequest& r) { return node->SendControlRequest(r); };
   sinks.estop = [&](const EmergencyStop& e) { return node->SendEmergencyStop(e); };
+  sinks.robot_estop = [&robot]() -> std::optional<ui::ReportedEstop> {
+    ui::ReportedEstop reported;
+    const std::optional<bool> engaged = robot.EstopEngaged(&reported.received);
+    if (!engaged) return std::nullopt;
+    reported.engaged = *engaged;
+    return reported;
+  };
   sinks.on_sent = [&](const VelocityCommand& c) {
     trace.Add("command", c.stamp, c.sequence);
     if (rec) rec->Write(c);

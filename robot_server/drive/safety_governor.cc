@@ -210,16 +210,28 @@ bool SafetyGovernor::HandleEmergencyStop(const EmergencyStop& estop, bool author
     if (!estop_) ++counters_.estops;
     estop_ = true;
     estop_engaged_by_ = estop.sender_id;
+    estop_reason_.clear();
     DisarmLocked();
     output_linear_mps_ = 0;
     output_angular_radps_ = 0;
   } else if (estop_) {
     estop_ = false;
     estop_engaged_by_.clear();
+    estop_reason_.clear();
     DisarmLocked();
     rearm_required_ = true;
   }
   return true;
+}
+
+void SafetyGovernor::RestoreEstop(const std::string& engaged_by, const std::string& reason) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  estop_ = true;
+  estop_engaged_by_ = engaged_by;
+  estop_reason_ = reason;
+  DisarmLocked();
+  output_linear_mps_ = 0;
+  output_angular_radps_ = 0;
 }
 
 void SafetyGovernor::OnLinkLost(const std::string& client_id) {
@@ -390,6 +402,7 @@ SafetyStatus SafetyGovernor::status() const {
   s.armed = armed_;
   s.estop_engaged = estop_;
   s.estop_engaged_by = estop_engaged_by_;
+  s.estop_reason = estop_reason_;
   if (have_command_) {
     s.last_command_age_s = static_cast<float>(ToSeconds(now_steady - last_arrival_));
     s.last_command_sequence = last_sequence_;
@@ -414,7 +427,11 @@ DeviceHealth SafetyGovernor::Health() const {
   health.state = nominal ? DeviceState::kOk : DeviceState::kWarn;
   std::ostringstream message;
   message << WatchdogStateName(s.state);
-  if (s.estop_engaged) message << " (e-stop by " << s.estop_engaged_by << ")";
+  if (s.estop_engaged) {
+    message << " (e-stop " << (s.estop_engaged_by.empty() ? "latched" : "by " + s.estop_engaged_by);
+    if (!s.estop_reason.empty()) message << ": " << s.estop_reason;
+    message << ")";
+  }
   message << ", holder " << (s.holder_id.empty() ? "none" : s.holder_id);
   if (!scan_fresh) message << ", no fresh scan";
   if (unknown_in_path > 0) {

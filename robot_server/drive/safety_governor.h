@@ -124,6 +124,7 @@ struct SafetyStatus {
   bool armed = false;
   bool estop_engaged = false;
   std::string estop_engaged_by;
+  std::string estop_reason;       // of a latch restored at start (RestoreEstop), else ""
   float last_command_age_s = -1;  // since the last accepted command arrived; -1 never
   uint64_t last_command_sequence = 0;
   SafetyCounters counters;
@@ -145,6 +146,10 @@ class SafetyGovernor {
   // E-stop event. `authorised` comes from PilotLease::MayEngageEstop / MayReleaseEstop.
   // Returns false (and counts) when refused.
   bool HandleEmergencyStop(const EmergencyStop& estop, bool authorised);
+  // Starts latched, as the previous run left the e-stop (EstopLatchStore): like an engagement
+  // by `engaged_by` ("" when nobody engaged it, e.g. after an unclean stop), with `reason` in the
+  // health message until the next engagement or release.
+  void RestoreEstop(const std::string& engaged_by, const std::string& reason);
 
   // The client's DDS liveliness or command deadline was lost. Acts like an immediate deadman
   // expiry when it is the holder.
@@ -211,6 +216,7 @@ class SafetyGovernor {
 
   bool estop_ = false;
   std::string estop_engaged_by_;
+  std::string estop_reason_;  // why a restored latch is engaged; "" otherwise
 
   // Scan.
   std::vector<Point> scan_points_;

@@ -312,6 +312,30 @@ TEST_F(SafetyGovernorTest, EstopLatchesZeroUntilReleasedAndRearmed) {
   EXPECT_EQ(governor_.status().counters.estops, 1u);
 }
 
+TEST_F(SafetyGovernorTest, RestoredLatchHoldsUntilReleasedAndNamesItsReason) {
+  governor_.RestoreEstop("", "the previous run did not stop cleanly");
+  Arm();
+  GovernorOutput out = Drive(0.4, 0, 10);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kEstop);
+  const DeviceHealth health = governor_.Health();
+  EXPECT_EQ(health.state, DeviceState::kWarn);
+  EXPECT_NE(health.message.find("e-stop latched: the previous run did not stop cleanly"),
+            std::string::npos)
+      << health.message;
+  RobotHealth robot;
+  governor_.FillRobotHealth(&robot);
+  EXPECT_TRUE(robot.estop_engaged);
+  EmergencyStop release;
+  release.sender_id = "alice";
+  release.engage = false;
+  EXPECT_TRUE(governor_.HandleEmergencyStop(release, true));
+  EXPECT_EQ(governor_.status().estop_reason, "");
+  EXPECT_EQ(Drive(0.4, 0, 10).linear_mps, 0.0) << "a release needs a re-arm";
+  Arm();
+  EXPECT_GT(Drive(0.4, 0, 10).linear_mps, 0.0);
+}
+
 TEST_F(SafetyGovernorTest, SlowsDownNearAnObstacleAhead) {
   Arm();
   // Bumper at 0.2 m; wall 0.75 m ahead of it: halfway between stop (0.3) and slow (1.2).

@@ -61,6 +61,10 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
                          DeviceStateName(d.state), d.message.c_str());
     }
   }
+  if (status.pending_estop) {
+    ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "e-stop %s sent, not yet confirmed by the robot",
+                       *status.pending_estop ? "engage" : "release");
+  }
   if (status.pilot) {
     ImGui::Text("drive %s  v %.2f m/s  w %.2f rad/s  scale %.0f%%",
                 status.drive.enable ? "ON" : "off", status.drive.linear_mps,
