@@ -29,6 +29,7 @@ std::string Source(const char* path) { return std::string(MOSTAR_TEST_SOURCE_DIR
 
 // What the robot last said about its e-stop.
 struct LatchReport {
+  Time stamp;  // robot clock (this machine's)
   bool engaged = false;
   std::string latch_message;  // of the "estop_latch" device
 };
@@ -51,6 +52,7 @@ class EstopLatchRestartTest : public ::testing::Test {
         [this](const dds::wire::RobotHealth& wire) {
           const RobotHealth health = dds::FromIdl(wire);
           LatchReport report;
+          report.stamp = health.stamp;
           report.engaged = health.estop_engaged;
           for (const DeviceHealth& device : health.devices) {
             if (device.name == "estop_latch") report.latch_message = device.message;
@@ -66,6 +68,7 @@ class EstopLatchRestartTest : public ::testing::Test {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       report_.reset();
+      started_ = SystemClock::Instance().Now();  // reports of an earlier run are older
     }
     std::string error;
     ASSERT_TRUE(server->Start(
@@ -81,7 +84,7 @@ class EstopLatchRestartTest : public ::testing::Test {
     for (int i = 0; i < 600; ++i) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (report_) return report_;
+        if (report_ && report_->stamp >= started_) return report_;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
@@ -98,7 +101,7 @@ class EstopLatchRestartTest : public ::testing::Test {
       estop_->Write(dds::ToIdl(stop));
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
       std::lock_guard<std::mutex> lock(mutex_);
-      if (report_ && !report_->engaged) return true;
+      if (report_ && report_->stamp >= started_ && !report_->engaged) return true;
     }
     return false;
   }
@@ -110,6 +113,7 @@ class EstopLatchRestartTest : public ::testing::Test {
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
   std::mutex mutex_;
   std::optional<LatchReport> report_;
+  Time started_;
 };
 
 TEST_F(EstopLatchRestartTest, AKilledServerComesBackLatchedUntilAPilotReleasesIt) {
