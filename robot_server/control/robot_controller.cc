@@ -99,16 +99,17 @@ void RobotController::OnEmergencyStop(const EmergencyStop& stop) {
       stop.engage ? lease_.MayEngageEstop(stop.sender_id)
                   : lease_.MayReleaseEstop(stop.sender_id, governor_.status().estop_engaged_by);
   std::string error;
+  const bool was_engaged = governor_.status().estop_engaged;
   // A release takes effect only once recorded (else a restart could come back unlatched); an
-  // engagement takes effect at once and is recorded after.
-  if (authorised && !stop.engage && devices_.estop_latch != nullptr &&
-      governor_.status().estop_engaged && !devices_.estop_latch->Record(false, "", &error)) {
+  // engagement takes effect at once and is recorded after (once: clients repeat it).
+  if (authorised && !stop.engage && was_engaged && devices_.estop_latch != nullptr &&
+      !devices_.estop_latch->Record(false, "", &error)) {
     MOSTAR_LOG(ERROR) << "emergency stop release from " << stop.sender_id
                       << " refused: cannot record it: " << error;
     return;
   }
   governor_.HandleEmergencyStop(stop, authorised);
-  if (authorised && stop.engage && devices_.estop_latch != nullptr &&
+  if (authorised && stop.engage && !was_engaged && devices_.estop_latch != nullptr &&
       !devices_.estop_latch->Record(true, stop.sender_id, &error)) {
     MOSTAR_LOG(ERROR) << "e-stop latch: " << error;
   }

@@ -355,6 +355,11 @@ TEST_F(RobotControllerTest, AnEngagedEstopSurvivesARestartUntilAPilotReleasesIt)
   AliceDrives(50);
   EXPECT_GT(motors_.wheels().left_mps, 0.0);
   Estop("olga", true);
+  Estop("olga", true);  // clients repeat it until the robot reports it: recorded once
+  const RobotHealth before = LatestHealth();
+  const DeviceHealth* latch_before = Device(before, "estop_latch");
+  ASSERT_NE(latch_before, nullptr);
+  EXPECT_EQ(Counter(*latch_before, "writes"), 2u);  // the start, the engagement
   Restart(dir);
   EXPECT_TRUE(controller_->governor().status().estop_engaged);
   RobotHealth health = LatestHealth();
