@@ -20,11 +20,13 @@ DISPLAY_MODE=${DISPLAY_MODE:-mono-left}
 SCENE=${SCENE:-deploy/scenes/corridor.pbtxt}
 DOMAIN=${MOSTAR_DDS_DOMAIN:-$((40 + $$ % 60))}
 mkdir -p out
+# The server keeps its e-stop latch here (docs/safety.md); a fresh one per demo starts unlatched.
+STATE_DIR=$(mktemp -d)
 
 "$BUILD_DIR/robot_server/robot_server" --domain "$DOMAIN" \
-  --config deploy/config/server_sim.pbtxt --sim "$SCENE" &
+  --config deploy/config/server_sim.pbtxt --sim "$SCENE" --state-dir "$STATE_DIR" &
 SERVER=$!
-trap 'kill -TERM $SERVER 2>/dev/null; wait $SERVER 2>/dev/null || true' EXIT
+trap 'kill -TERM $SERVER 2>/dev/null; wait $SERVER 2>/dev/null || true; rm -rf "$STATE_DIR"' EXIT
 
 if [ -n "${DISPLAY:-}" ]; then
   "$BUILD_DIR/operator_client/operator_client" --domain "$DOMAIN" --display "$DISPLAY_MODE" \

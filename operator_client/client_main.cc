@@ -177,9 +177,12 @@ int Run(int argc, char** argv) {
   };
   callbacks.on_camera_info = [&](Eye eye, const CameraIntrinsicsInfo& info) {
     robot.SetIntrinsics(eye, info);
+    video.SetExpectedSize(eye, info.width_px, info.height_px);  // larger JPEGs are refused
   };
   callbacks.on_pong = [&](const ClockProbe& probe) {
-    if (probe.sender_id == client_id) robot.AddClockSample(probe);
+    if (probe.sender_id != client_id) return;
+    robot.AddClockSample(probe);
+    video.SetClockOffset(robot.Snapshot().clock);  // pairs stamped in the future are refused
   };
   OperatorNode::Options node_options;
   node_options.client_id = client_id;
@@ -204,6 +207,13 @@ int Run(int argc, char** argv) {
   };
   sinks.control = [&](const ControlRequest& r) { return node->SendControlRequest(r); };
   sinks.estop = [&](const EmergencyStop& e) { return node->SendEmergencyStop(e); };
+  sinks.robot_estop = [&robot]() -> std::optional<ui::ReportedEstop> {
+    ui::ReportedEstop reported;
+    const std::optional<bool> engaged = robot.EstopEngaged(&reported.received);
+    if (!engaged) return std::nullopt;
+    reported.engaged = *engaged;
+    return reported;
+  };
   sinks.on_sent = [&](const VelocityCommand& c) {
     trace.Add("command", c.stamp, c.sequence);
     if (rec) rec->Write(c);
@@ -285,7 +295,9 @@ int Run(int argc, char** argv) {
   if (console.captured()) {
     std::cout << " captured_stamp_ns=" << ToUnixNanos(*console.captured_stamp());
   }
-  std::cout << "\n";
+  std::cout << " oversized_images=" << stats.oversized_images
+            << " future_pairs=" << stats.future_dropped << " stamp_resyncs=" << stats.stamp_resyncs
+            << "\n";
   return capture && !console.captured() ? 1 : 0;
 }
 

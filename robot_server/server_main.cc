@@ -64,6 +64,9 @@ void AddFlags(CLI::App* app, ServerFlags* f) {
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
   app->add_option("--trace", f->trace_path,
                   "write published stamps and accepted commands to this CSV");
+  app->add_option("--state-dir", f->state_dir,
+                  "keep the e-stop latch in this directory (default: state_dir of the config, "
+                  "/var/lib/mostar for the hardware source)");
 }
 
 int Fail(int status, const std::string& message) {
@@ -92,6 +95,10 @@ int Run(int argc, char** argv) {
   drive::DriveSettings settings;
   if (!drive::DriveSettingsFromProto(config.drive(), &settings, &error)) {
     return Fail(2, "bad configuration: drive: " + error);
+  }
+  std::string state_dir;
+  if (!EstopStateDirectory(config, config_dir, &state_dir, &error)) {
+    return Fail(2, "bad configuration: " + error);
   }
   StampTrace trace;
   if (!trace.Open(flags.trace_path)) return Fail(2, "cannot write " + flags.trace_path);
@@ -168,10 +175,18 @@ int Run(int argc, char** argv) {
   if (settings.roles.size() == 0) {
     MOSTAR_LOG(WARNING) << "no pilots in the role table (drive.roles): nobody can drive";
   }
+  std::unique_ptr<drive::EstopLatchStore> estop_latch;
+  if (!state_dir.empty()) {
+    estop_latch = std::make_unique<drive::EstopLatchStore>(state_dir);
+    MOSTAR_LOG(INFO) << "e-stop latch kept in " << estop_latch->path();
+  } else {
+    MOSTAR_LOG(INFO) << "e-stop latch not persisted (simulated robot without state_dir)";
+  }
   RobotControllerDevices controlled;
   controlled.motors = devices.motors();
   controlled.laser = devices.laser();
   controlled.camera_health = [&pipeline] { return pipeline.Health(); };
+  controlled.estop_latch = estop_latch.get();
   RobotController controller(ControllerOptionsFrom(config, settings, devices.intrinsics),
                              controlled, node.get(), clock, &trace);
   controller.SetRecorder(rec);

@@ -24,6 +24,24 @@ void ApplyFlags(const ServerFlags& flags, ServerConfig* config) {
     laser_replay->set_rate(flags.replay_rate);
     laser_replay->set_loop(flags.replay_loop);
   }
+  if (!flags.state_dir.empty()) {
+    config->set_state_dir(AbsoluteFromWorkingDirectory(flags.state_dir));
+  }
+}
+
+bool EstopStateDirectory(const ServerConfig& config, const std::string& config_dir,
+                         std::string* directory, std::string* error) {
+  directory->clear();
+  if (config.source() != ServerConfig::HARDWARE && !config.has_state_dir()) return true;
+  if (config.state_dir().empty()) {
+    if (config.source() != ServerConfig::HARDWARE) return true;
+    *error =
+        "state_dir: empty; the hardware robot keeps its e-stop latch there "
+        "(default /var/lib/mostar)";
+    return false;
+  }
+  *directory = ResolveRelativeTo(config.state_dir(), config_dir);
+  return true;
 }
 
 RobotControllerOptions ControllerOptionsFrom(const ServerConfig& config,

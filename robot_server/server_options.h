@@ -25,12 +25,20 @@ struct ServerFlags {
   bool replay_loop = false;
   bool replay_paused = false;
   std::string replay_sensors;
+  std::string state_dir;  // --state-dir: overrides state_dir
 };
 
 // The flags' overrides: --source, --sim (implies SIM), --replay-sensors (camera and laser
-// replay of one file at --replay-rate, --loop). Paths on the command line are made absolute
-// from the working directory (paths in the file stay relative to the file).
+// replay of one file at --replay-rate, --loop), --state-dir. Paths on the command line are made
+// absolute from the working directory (paths in the file stay relative to the file).
 void ApplyFlags(const ServerFlags& flags, ServerConfig* config);
+
+// Where the e-stop latch is kept (see state_dir in server_config.proto): the directory, or ""
+// when it is not persisted (SIM or TEST_PATTERN without a state_dir, or with an empty one).
+// False with a message for an empty state_dir with source HARDWARE. A relative state_dir is
+// taken from `config_dir`.
+bool EstopStateDirectory(const ServerConfig& config, const std::string& config_dir,
+                         std::string* directory, std::string* error);
 
 // The control loop's options: periods, holder timeout, DDS write-stall limit, drive settings
 // and the intrinsics to publish.

@@ -54,6 +54,34 @@ TEST(ServerOptionsTest, ReplaySensorsReplaysCameraAndLaserOfOneFileAtOneRate) {
   EXPECT_TRUE(config.laser().replay().loop());
 }
 
+TEST(ServerOptionsTest, TheHardwareRobotKeepsItsEstopLatchTheSimulatedOneWhenAsked) {
+  ServerConfig config;
+  std::string dir, error;
+  config.set_source(ServerConfig::HARDWARE);
+  ASSERT_TRUE(EstopStateDirectory(config, "/etc/mostar", &dir, &error)) << error;
+  EXPECT_EQ(dir, "/var/lib/mostar");
+  for (const auto source : {ServerConfig::SIM, ServerConfig::TEST_PATTERN}) {
+    config.set_source(source);
+    ASSERT_TRUE(EstopStateDirectory(config, "/etc/mostar", &dir, &error)) << error;
+    EXPECT_EQ(dir, "") << "not persisted by default";
+  }
+  config.set_state_dir("state");  // relative to the configuration file
+  ASSERT_TRUE(EstopStateDirectory(config, "/etc/mostar", &dir, &error)) << error;
+  EXPECT_EQ(dir, "/etc/mostar/state");
+  ServerFlags flags;
+  flags.state_dir = "run/state";  // relative to the working directory
+  ApplyFlags(flags, &config);
+  ASSERT_TRUE(EstopStateDirectory(config, "/etc/mostar", &dir, &error)) << error;
+  EXPECT_EQ(dir, Cwd() + "/run/state");
+  // An empty directory: not persisted for a simulated robot, refused for the hardware one.
+  config.set_state_dir("");
+  ASSERT_TRUE(EstopStateDirectory(config, "/etc/mostar", &dir, &error)) << error;
+  EXPECT_EQ(dir, "");
+  config.set_source(ServerConfig::HARDWARE);
+  EXPECT_FALSE(EstopStateDirectory(config, "/etc/mostar", &dir, &error));
+  EXPECT_NE(error.find("state_dir"), std::string::npos) << error;
+}
+
 TEST(ServerOptionsTest, ControllerOptionsComeFromTheConfigurationAndAreValid) {
   ServerConfig config;
   config.set_robot_id("morduc");

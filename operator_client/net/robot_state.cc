@@ -73,6 +73,13 @@ std::optional<LaserScan> RobotState::NearestScan(Time stamp) const {
   return *best;
 }
 
+std::optional<bool> RobotState::EstopEngaged(SteadyTime* received) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!snapshot_.health) return std::nullopt;
+  *received = snapshot_.last_health_received;
+  return snapshot_.health->estop_engaged;
+}
+
 RobotSnapshot RobotState::Snapshot() const {
   std::lock_guard<std::mutex> lock(mutex_);
   RobotSnapshot s = snapshot_;

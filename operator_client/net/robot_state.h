@@ -53,6 +53,9 @@ class RobotState {
   // The scan whose stamp is nearest to `stamp` (robot clock), among the last 32.
   std::optional<LaserScan> NearestScan(Time stamp) const;
   RobotSnapshot Snapshot() const;
+  // The e-stop state of the latest health (nullopt before the first), and in `received` when
+  // that health arrived here. Cheaper than Snapshot(), for the command thread.
+  std::optional<bool> EstopEngaged(SteadyTime* received) const;
 
  private:
   const Clock* clock_;

@@ -26,6 +26,24 @@ TEST(RobotStateTest, NearestScanByStamp) {
   EXPECT_EQ(state.NearestScan(t0 - std::chrono::seconds(5))->ranges_m[0], 1);
 }
 
+TEST(RobotStateTest, EstopStateOfTheLatestHealthWithItsArrival) {
+  FakeClock clock;
+  RobotState state(&clock);
+  SteadyTime received;
+  EXPECT_FALSE(state.EstopEngaged(&received).has_value());
+  RobotHealth health;
+  health.estop_engaged = true;
+  clock.Advance(std::chrono::seconds(1));
+  state.SetHealth(health);
+  EXPECT_EQ(state.EstopEngaged(&received), std::optional<bool>(true));
+  EXPECT_EQ(received, clock.SteadyNow());
+  health.estop_engaged = false;
+  clock.Advance(std::chrono::seconds(1));
+  state.SetHealth(health);
+  EXPECT_EQ(state.EstopEngaged(&received), std::optional<bool>(false));
+  EXPECT_EQ(received, clock.SteadyNow());
+}
+
 TEST(RobotStateTest, EmptyHistoryGivesNothing) {
   FakeClock clock;
   RobotState state(&clock);

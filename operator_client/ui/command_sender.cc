@@ -4,7 +4,7 @@ namespace mostar::ui {
 
 CommandSender::CommandSender(const CommandSenderOptions& options, CommandSinks sinks,
                              const Clock* clock)
-    : options_(options), sinks_(std::move(sinks)), clock_(clock) {
+    : options_(options), sinks_(std::move(sinks)), clock_(clock), estop_(options.estop) {
   next_ping_ = clock_->SteadyNow();
 }
 
@@ -43,8 +43,19 @@ void CommandSender::RequestControl(bool take) {
 }
 
 void CommandSender::SendEmergencyStop(bool engage) {
+  const SteadyTime now = clock_->SteadyNow();
   std::lock_guard<std::mutex> lock(mutex_);
-  pending_estop_ = engage;
+  estop_.Request(engage, now);
+}
+
+std::optional<bool> CommandSender::pending_estop() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return estop_.pending();
+}
+
+EstopResenderStats CommandSender::estop_stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return estop_.stats();
 }
 
 void CommandSender::Tick() {
@@ -52,12 +63,15 @@ void CommandSender::Tick() {
   bool active = true;
   std::optional<bool> control;
   std::optional<bool> estop;
+  const std::optional<ReportedEstop> reported =
+      sinks_.robot_estop ? sinks_.robot_estop() : std::nullopt;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     drive = drive_;
     active = active_;
     control.swap(pending_control_);
-    estop.swap(pending_estop_);
+    if (reported) estop_.OnRobotReport(*reported);
+    estop = estop_.Due(clock_->SteadyNow());
   }
   const Time now = clock_->Now();
   if (estop && sinks_.estop) sinks_.estop({now, options_.client_id, *estop});

@@ -85,7 +85,7 @@ TEST(CommandSenderTest, InactivePilotWritesNoCommands) {
   EXPECT_EQ(rec.commands[0].sequence, 1u);
 }
 
-TEST(CommandSenderTest, ControlRequestsAndEstopAreSentOnce) {
+TEST(CommandSenderTest, ControlRequestsAreSentOnceAndTheEstopAtOnce) {
   FakeClock clock;
   Recorder rec;
   CommandSender sender({"pilot-b", true, 20}, rec.Sinks(), &clock);
@@ -98,6 +98,37 @@ TEST(CommandSenderTest, ControlRequestsAndEstopAreSentOnce) {
   EXPECT_EQ(rec.requests[0].strength, 20);
   ASSERT_EQ(rec.stops.size(), 1u);
   EXPECT_TRUE(rec.stops[0].engage);
+}
+
+TEST(CommandSenderTest, AnEngagedEstopIsResentUntilTheRobotReportsIt) {
+  FakeClock clock;
+  Recorder rec;
+  std::optional<ReportedEstop> reported;
+  CommandSinks sinks = rec.Sinks();
+  sinks.robot_estop = [&] { return reported; };
+  CommandSender sender({"observer", false, 0}, sinks, &clock);
+  // The robot reports itself released (its report arrives every half second).
+  reported = ReportedEstop{false, clock.SteadyNow()};
+  sender.SendEmergencyStop(true);
+  for (int i = 0; i < 20; ++i) {  // one second of cycles
+    sender.Tick();
+    clock.Advance(std::chrono::milliseconds(50));
+    if (i % 10 == 9) reported = ReportedEstop{false, clock.SteadyNow()};
+  }
+  EXPECT_EQ(rec.stops.size(), 4u);  // at 0, 250, 500 and 750 ms
+  for (const EmergencyStop& stop : rec.stops) {
+    EXPECT_TRUE(stop.engage);
+    EXPECT_EQ(stop.sender_id, "observer");
+  }
+  EXPECT_EQ(sender.pending_estop(), std::optional<bool>(true));
+  reported = ReportedEstop{true, clock.SteadyNow()};
+  for (int i = 0; i < 40; ++i) {
+    sender.Tick();
+    clock.Advance(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(rec.stops.size(), 4u) << "confirmed: no more re-sends";
+  EXPECT_FALSE(sender.pending_estop().has_value());
+  EXPECT_EQ(sender.estop_stats().confirmed, 1u);
 }
 
 }  // namespace

@@ -252,6 +252,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.drive = drive_;
     hud.drive_scale = mapper_.scale();
     hud.status_line = status_line_;
+    hud.pending_estop = commands_->pending_estop();
     DrawHudPanel(robot, video_->Stats(), hud, clock_->SteadyNow());
   }
   if (options_.show_map) DrawMapPanel(features);

@@ -1,8 +1,10 @@
 #include "operator_client/video/stereo_receiver.h"
 
+#include <algorithm>
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/log/log.h"
+#include "operator_client/video/jpeg_header.h"
 
 namespace mostar::client {
 
@@ -21,7 +23,8 @@ cv::Mat Decode(const CompressedImage& image) {
 }
 }  // namespace
 
-StereoReceiver::StereoReceiver(const Clock* clock) : clock_(clock) {
+StereoReceiver::StereoReceiver(const Clock* clock, const StereoReceiverOptions& options)
+    : clock_(clock), options_(options), gate_(options.stamps) {
   thread_ = std::thread([this] { DecodeLoop(); });
 }
 
@@ -34,7 +37,24 @@ StereoReceiver::~StereoReceiver() {
   thread_.join();
 }
 
+void StereoReceiver::SetExpectedSize(Eye eye, int width_px, int height_px) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const int e = eye == Eye::kLeft ? 0 : 1;
+  expected_width_px_[e] = std::max(width_px, 0);
+  expected_height_px_[e] = std::max(height_px, 0);
+}
+
+void StereoReceiver::SetClockOffset(const timesync::ClockOffsetEstimate& robot_minus_local) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  gate_.SetClockOffset(robot_minus_local);
+}
+
 void StereoReceiver::Push(Eye eye, const CompressedImage& image) {
+  // The header is read before the lock: it costs microseconds and touches only `image`.
+  JpegHeader header;
+  std::string header_error;
+  const bool header_ok =
+      ReadJpegHeader(image.data.data(), image.data.size(), &header, &header_error);
   std::lock_guard<std::mutex> lock(mutex_);
   ++stats_.images;
   stats_.bytes += image.data.size();
@@ -42,6 +62,22 @@ void StereoReceiver::Push(Eye eye, const CompressedImage& image) {
   bytes_window_[now] += image.data.size();
   while (!bytes_window_.empty() && now - bytes_window_.begin()->first > std::chrono::seconds(2)) {
     bytes_window_.erase(bytes_window_.begin());
+  }
+  if (!header_ok) {
+    ++stats_.broken_images;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+        << "unreadable JPEG header (" << header_error << "): " << EyeName(eye) << " image dropped";
+    return;
+  }
+  const int e = eye == Eye::kLeft ? 0 : 1;
+  const bool known = expected_width_px_[e] > 0 && expected_height_px_[e] > 0;
+  std::string why;
+  if (!FitsExpectedSize(header, known ? expected_width_px_[e] : options_.max_width_px,
+                        known ? expected_height_px_[e] : options_.max_height_px, &why)) {
+    ++stats_.oversized_images;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5) << EyeName(eye) << " image " << why
+                                     << (known ? " (camera info)" : " (limit)") << ": not decoded";
+    return;
   }
   const int64_t key = ToUnixNanos(image.stamp);
   auto& mine = eye == Eye::kLeft ? pending_left_ : pending_right_;
@@ -55,12 +91,22 @@ void StereoReceiver::Push(Eye eye, const CompressedImage& image) {
     }
     return;
   }
-  if (key <= newest_pair_ns_) {  // older than a pair already completed: never shown
+  const PairVerdict verdict = gate_.Check(image.stamp, clock_->Now(), now);
+  if (verdict == PairVerdict::kFuture || verdict == PairVerdict::kLate) {
     other.erase(partner);
-    ++stats_.late_dropped;
+    if (verdict == PairVerdict::kLate) ++stats_.late_dropped;
+    if (verdict == PairVerdict::kFuture) {
+      ++stats_.future_dropped;
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+          << "stereo pair stamped " << ToIso8601(image.stamp) << " is in the future: dropped";
+    }
     return;
   }
-  newest_pair_ns_ = key;
+  if (verdict == PairVerdict::kResync) {
+    ++stats_.stamp_resyncs;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+        << "stereo pair order restarted at the pair stamped " << ToIso8601(image.stamp);
+  }
   CompressedStereoPair pair;
   pair.left = eye == Eye::kLeft ? image : partner->second;
   pair.right = eye == Eye::kLeft ? partner->second : image;

@@ -2,9 +2,12 @@
 //
 // Push() is called from DDS threads and never blocks for long: the newest complete pair
 // replaces an undecoded one (counted as dropped). Latest() gives the most recent decoded pair to
-// the render loop without waiting. A broken JPEG is counted and dropped with its pair; nothing
-// else is lost. Pairs are shown in capture order: a pair completed after a newer one (the robot
-// keeps several pairs in flight) is dropped and counted. Thread-safe.
+// the render loop without waiting. Every image's JPEG header is read first: one that declares
+// more pixels than its eye may have (the robot's CameraInfo size once known, else
+// max_width_px x max_height_px) is refused and counted before anything is decoded. A broken
+// JPEG is counted and dropped with its pair; nothing else is lost. Pairs are shown in capture
+// order and a pair stamped in the future is refused (PairStampGate): a pair completed after a
+// newer one (the robot keeps several pairs in flight) is dropped and counted. Thread-safe.
 #pragma once
 
 #include <condition_variable>
@@ -17,7 +20,9 @@
 
 #include "common/time/rate_meter.h"
 #include "common/time/time.h"
+#include "common/timesync/clock_offset_estimator.h"
 #include "common/types/stereo_frame.h"
+#include "operator_client/video/pair_stamp_gate.h"
 
 namespace mostar::client {
 
@@ -36,20 +41,36 @@ struct ReceiverStats {
   uint64_t pairs_dropped = 0;     // replaced before decoding (render/decoder slower than input)
   uint64_t unpaired_dropped = 0;  // an eye whose partner never came
   uint64_t late_dropped = 0;      // a pair completed after a newer one (several writers in flight)
-  uint64_t broken_images = 0;     // undecodable JPEG data
+  uint64_t broken_images = 0;     // undecodable JPEG data (header or image)
+  uint64_t oversized_images = 0;  // a header declaring more pixels than expected: not decoded
+  uint64_t future_dropped = 0;    // a pair stamped in the future (PairStampGate)
+  uint64_t stamp_resyncs = 0;     // the capture order restarted (PairStampGate)
   uint64_t bytes = 0;             // compressed bytes received
   double pair_rate_hz = 0;
   double bitrate_bps = 0;
 };
 
+struct StereoReceiverOptions {
+  // The largest image accepted before the robot's CameraInfo gives the eye's size. unit: px.
+  int max_width_px = 4096;
+  int max_height_px = 4096;
+  PairStampGateOptions stamps;
+};
+
 class StereoReceiver {
  public:
-  explicit StereoReceiver(const Clock* clock = &SystemClock::Instance());
+  explicit StereoReceiver(const Clock* clock = &SystemClock::Instance(),
+                          const StereoReceiverOptions& options = {});
   ~StereoReceiver();
   StereoReceiver(const StereoReceiver&) = delete;
   StereoReceiver& operator=(const StereoReceiver&) = delete;
 
   void Push(Eye eye, const CompressedImage& image);
+  // The size of one eye's images from the robot's CameraInfo; images that declare more are
+  // refused. Zero or negative: unknown (the fixed limit applies).
+  void SetExpectedSize(Eye eye, int width_px, int height_px);
+  // The robot's clock minus this machine's, for judging stamps from the future.
+  void SetClockOffset(const timesync::ClockOffsetEstimate& robot_minus_local);
   // The newest decoded pair, if any (shares pixel memory; treat as read-only).
   std::optional<DecodedStereoPair> Latest() const;
   ReceiverStats Stats() const;
@@ -58,12 +79,15 @@ class StereoReceiver {
   void DecodeLoop();
 
   const Clock* clock_;
+  const StereoReceiverOptions options_;
   mutable std::mutex mutex_;
+  int expected_width_px_[2] = {0, 0};  // by Eye; 0 = unknown
+  int expected_height_px_[2] = {0, 0};
+  PairStampGate gate_;
   std::condition_variable cv_;
   bool stop_ = false;
   std::map<int64_t, CompressedImage> pending_left_;  // by stamp (ns), waiting for the partner
   std::map<int64_t, CompressedImage> pending_right_;
-  int64_t newest_pair_ns_ = 0;  // capture stamp of the newest pair completed so far
   std::optional<CompressedStereoPair> to_decode_;
   SteadyTime to_decode_received_;
   std::optional<DecodedStereoPair> latest_;

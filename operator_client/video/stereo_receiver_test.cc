@@ -6,6 +6,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "common/time/fake_clock.h"
+#include "operator_client/video/test_jpeg.h"
+
 namespace mostar::client {
 namespace {
 
@@ -79,6 +82,104 @@ TEST(StereoReceiverTest, PairCompletedAfterANewerOneIsDroppedAndCounted) {
   EXPECT_EQ(receiver.Latest()->stamp, FromUnixNanos(3));
   EXPECT_EQ(receiver.Stats().late_dropped, 1u);
   EXPECT_EQ(receiver.Stats().unpaired_dropped, 0u);
+}
+
+CompressedImage WithData(Time stamp, std::vector<uint8_t> data) {
+  CompressedImage out;
+  out.stamp = stamp;
+  out.format = "jpeg";
+  out.data = std::move(data);
+  return out;
+}
+
+TEST(StereoReceiverTest, AJpegDeclaringHugeDimensionsIsRefusedBeforeDecoding) {
+  StereoReceiver receiver;  // no camera info yet: the 4096 x 4096 limit
+  const Time t = FromUnixNanos(1'000'000'000);
+  // A few hundred bytes declaring 8000 x 8000 (192 MB once decoded) in each eye.
+  const std::vector<uint8_t> bomb =
+      testing::WithDeclaredSize(testing::EncodeJpeg(64, 48, 10), 8000, 8000);
+  receiver.Push(Eye::kLeft, WithData(t, bomb));
+  receiver.Push(Eye::kRight, WithData(t, bomb));
+  ReceiverStats stats = receiver.Stats();
+  EXPECT_EQ(stats.oversized_images, 2u);
+  EXPECT_EQ(stats.broken_images, 0u);
+  EXPECT_EQ(stats.images, 2u);
+  // Nothing of it was paired or decoded; the next real pair is.
+  receiver.Push(Eye::kLeft, Jpeg(t + std::chrono::milliseconds(40), 10));
+  receiver.Push(Eye::kRight, Jpeg(t + std::chrono::milliseconds(40), 10));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 1; }));
+  EXPECT_EQ(receiver.Latest()->left.cols, 64);
+  EXPECT_EQ(receiver.Stats().unpaired_dropped, 0u);
+}
+
+TEST(StereoReceiverTest, ImagesLargerThanTheCameraInfoSizeAreRefused) {
+  StereoReceiver receiver;
+  receiver.SetExpectedSize(Eye::kLeft, 64, 48);
+  receiver.SetExpectedSize(Eye::kRight, 64, 48);
+  const Time t = FromUnixNanos(1'000'000'000);
+  receiver.Push(Eye::kLeft, WithData(t, testing::EncodeJpeg(128, 96, 10)));  // too large
+  receiver.Push(Eye::kRight, WithData(t, testing::EncodeJpeg(64, 48, 10)));
+  EXPECT_EQ(receiver.Stats().oversized_images, 1u);
+  // The robot scaling its images down is fine.
+  const Time t2 = t + std::chrono::milliseconds(40);
+  receiver.Push(Eye::kLeft, WithData(t2, testing::EncodeJpeg(32, 24, 10)));
+  receiver.Push(Eye::kRight, WithData(t2, testing::EncodeJpeg(32, 24, 10)));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 1; }));
+  EXPECT_EQ(receiver.Latest()->left.cols, 32);
+  EXPECT_EQ(receiver.Stats().oversized_images, 1u);
+  // Back to unknown: the fixed limit applies again.
+  receiver.SetExpectedSize(Eye::kLeft, 0, 0);
+  receiver.SetExpectedSize(Eye::kRight, 0, 0);
+  const Time t3 = t2 + std::chrono::milliseconds(40);
+  receiver.Push(Eye::kLeft, WithData(t3, testing::EncodeJpeg(128, 96, 10)));
+  receiver.Push(Eye::kRight, WithData(t3, testing::EncodeJpeg(128, 96, 10)));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 2; }));
+}
+
+TEST(StereoReceiverTest, OneFutureStampedPairDoesNotFreezeTheVideo) {
+  FakeClock clock;
+  StereoReceiver receiver(&clock);
+  timesync::ClockOffsetEstimate offset;  // the robot's clock is this one's, within 5 ms
+  offset.known = true;
+  offset.uncertainty = std::chrono::milliseconds(5);
+  receiver.SetClockOffset(offset);
+  const Time future = clock.Now() + std::chrono::hours(24);
+  receiver.Push(Eye::kLeft, Jpeg(future, 200));
+  receiver.Push(Eye::kRight, Jpeg(future, 200));
+  EXPECT_EQ(receiver.Stats().future_dropped, 1u);
+  for (int i = 1; i <= 3; ++i) {
+    clock.Advance(std::chrono::milliseconds(100));
+    const Time stamp = clock.Now() - std::chrono::milliseconds(30);
+    receiver.Push(Eye::kLeft, Jpeg(stamp, 10));
+    receiver.Push(Eye::kRight, Jpeg(stamp, 10));
+    ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == static_cast<uint64_t>(i); }))
+        << "pair " << i;
+    EXPECT_EQ(receiver.Latest()->stamp, stamp);
+  }
+  const ReceiverStats stats = receiver.Stats();
+  EXPECT_EQ(stats.late_dropped, 0u);
+  EXPECT_EQ(stats.future_dropped, 1u);
+}
+
+TEST(StereoReceiverTest, AFuturePairBeforeTheOffsetIsKnownFreezesTheVideoOnlyBriefly) {
+  FakeClock clock;
+  StereoReceiver receiver(&clock);
+  receiver.Push(Eye::kLeft, Jpeg(clock.Now() + std::chrono::hours(24), 200));
+  receiver.Push(Eye::kRight, Jpeg(clock.Now() + std::chrono::hours(24), 200));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 1; }));
+  // Real pairs at 10 Hz look late until the order restarts (2 s and 3 late pairs).
+  for (int i = 0; i < 25 && receiver.Stats().pairs_decoded == 1; ++i) {
+    clock.Advance(std::chrono::milliseconds(100));
+    receiver.Push(Eye::kLeft, Jpeg(clock.Now(), 10));
+    receiver.Push(Eye::kRight, Jpeg(clock.Now(), 10));
+  }
+  ASSERT_TRUE(WaitFor([&] {
+    const auto latest = receiver.Latest();
+    return latest && latest->stamp == clock.Now();
+  }));
+  const ReceiverStats stats = receiver.Stats();
+  EXPECT_EQ(stats.stamp_resyncs, 1u);
+  EXPECT_EQ(stats.late_dropped, 19u);
 }
 
 }  // namespace

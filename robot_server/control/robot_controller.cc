@@ -40,6 +40,13 @@ RobotController::RobotController(const RobotControllerOptions& options,
   std::string error;
   MOSTAR_CHECK(options_.IsValid(&error)) << error;
   MOSTAR_CHECK(devices_.motors != nullptr && link_ != nullptr && clock_ != nullptr);
+  if (devices_.estop_latch != nullptr) {
+    const drive::EstopLatchDecision latch = devices_.estop_latch->Start();
+    if (latch.latched) {
+      governor_.RestoreEstop(latch.engaged_by, latch.reason);
+      MOSTAR_LOG(WARNING) << "starting with the e-stop engaged: " << latch.reason;
+    }
+  }
 }
 
 RobotController::~RobotController() { Stop(); }
@@ -59,6 +66,13 @@ void RobotController::Stop() {
   if (devices_.laser != nullptr) devices_.laser->Stop();
   std::string error;
   if (!devices_.motors->Stop(&error)) MOSTAR_LOG(ERROR) << "motors: stop failed: " << error;
+  if (devices_.estop_latch != nullptr) {
+    const drive::SafetyStatus status = governor_.status();
+    if (!devices_.estop_latch->RecordCleanStop(status.estop_engaged, status.estop_engaged_by,
+                                               &error)) {
+      MOSTAR_LOG(ERROR) << "e-stop latch: " << error;
+    }
+  }
 }
 
 void RobotController::OnCommand(const VelocityCommand& command) {
@@ -84,7 +98,21 @@ void RobotController::OnEmergencyStop(const EmergencyStop& stop) {
   const bool authorised =
       stop.engage ? lease_.MayEngageEstop(stop.sender_id)
                   : lease_.MayReleaseEstop(stop.sender_id, governor_.status().estop_engaged_by);
+  std::string error;
+  const bool was_engaged = governor_.status().estop_engaged;
+  // A release takes effect only once recorded (else a restart could come back unlatched); an
+  // engagement takes effect at once and is recorded after (once: clients repeat it).
+  if (authorised && !stop.engage && was_engaged && devices_.estop_latch != nullptr &&
+      !devices_.estop_latch->Record(false, "", &error)) {
+    MOSTAR_LOG(ERROR) << "emergency stop release from " << stop.sender_id
+                      << " refused: cannot record it: " << error;
+    return;
+  }
   governor_.HandleEmergencyStop(stop, authorised);
+  if (authorised && stop.engage && !was_engaged && devices_.estop_latch != nullptr &&
+      !devices_.estop_latch->Record(true, stop.sender_id, &error)) {
+    MOSTAR_LOG(ERROR) << "e-stop latch: " << error;
+  }
   MOSTAR_LOG(WARNING) << "emergency stop " << (stop.engage ? "engage" : "release") << " from "
                       << stop.sender_id << (authorised ? "" : " refused (not authorised)");
 }
@@ -174,6 +202,7 @@ RobotHealth RobotController::AssembleHealth(SteadyTime now) {
   if (devices_.camera_health) health.devices.push_back(devices_.camera_health());
   if (devices_.laser != nullptr) health.devices.push_back(devices_.laser->Health());
   health.devices.push_back(governor_.Health());
+  if (devices_.estop_latch != nullptr) health.devices.push_back(devices_.estop_latch->Health());
   DeviceHealth drive = devices_.motors->Health();
   drive.rate_hz = static_cast<float>(control_rate_.RateHz(now));
   drive.counters.emplace_back("motor_errors", motor_errors_);

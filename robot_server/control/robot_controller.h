@@ -23,6 +23,7 @@
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "robot_server/drive/drive_motors.h"
+#include "robot_server/drive/estop_latch_store.h"
 #include "robot_server/drive/odometry.h"
 #include "robot_server/drive/pilot_lease.h"
 #include "robot_server/drive/safety_governor.h"
@@ -57,6 +58,10 @@ struct RobotControllerDevices {
   drive::DriveMotors* motors = nullptr;         // required
   laser::LaserScanner* laser = nullptr;         // optional (no laser: scans never fresh)
   std::function<DeviceHealth()> camera_health;  // optional, thread-safe
+  // Optional: the e-stop latch persisted across restarts. The controller starts it (and starts
+  // latched when it says so), records every engagement and release (a release that cannot be
+  // recorded does not take effect) and a clean stop in Stop().
+  drive::EstopLatchStore* estop_latch = nullptr;
 };
 
 enum class StepResult {

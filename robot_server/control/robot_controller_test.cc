@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <memory>
 #include <mutex>
 
+#include "common/testing/subprocess.h"
 #include "common/time/fake_clock.h"
 #include "robot_server/drive/fake_drive_motors.h"
 #include "robot_server/node/fake_robot_link.h"
@@ -115,10 +118,34 @@ class RobotControllerTest : public ::testing::Test {
       camera.name = "camera";
       return camera;
     };
+    devices.estop_latch = latch_.get();
     controller_.emplace(options_, devices, &link_, &clock_);
     std::string error;
     EXPECT_TRUE(controller_->Start(&error)) << error;
     return *controller_;
+  }
+
+  // Stops the controller as a clean shutdown does, then starts a new one (with a new latch store
+  // on `state_dir`, as a restarted process would).
+  void Restart(const std::string& state_dir) {
+    if (controller_) controller_->Stop();
+    controller_.reset();
+    latch_ = std::make_unique<drive::EstopLatchStore>(state_dir);
+    sequence_.clear();
+    Make();
+  }
+  void Estop(const std::string& id, bool engage) {
+    EmergencyStop stop;
+    stop.stamp = clock_.Now();
+    stop.sender_id = id;
+    stop.engage = engage;
+    controller_->OnEmergencyStop(stop);
+  }
+  RobotHealth LatestHealth() {
+    clock_.Advance(options_.health_period);
+    Run(1);
+    EXPECT_FALSE(link_.healths.empty());
+    return link_.healths.empty() ? RobotHealth{} : link_.healths.back();
   }
 
   void Take(const std::string& id, bool take = true) {
@@ -161,6 +188,7 @@ class RobotControllerTest : public ::testing::Test {
   FlakyMotors flaky_motors_;  // declared before controller_, which uses the motors until it ends
   FakeLaser laser_;
   FakeRobotLink link_;
+  std::unique_ptr<drive::EstopLatchStore> latch_;  // outlives controller_
   std::optional<RobotController> controller_;
   std::map<std::string, uint64_t> sequence_;
   uint64_t scan_sequence_ = 0;
@@ -318,6 +346,80 @@ TEST_F(RobotControllerTest, EmergencyStopFromAStrangerIsRefusedFromAnObserverEng
   EXPECT_TRUE(controller_->governor().status().estop_engaged);
   Run(1, [this] { Command("alice", 0.3, true); });
   EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0) << "e-stop: zero at once, no ramp";
+}
+
+TEST_F(RobotControllerTest, AnEngagedEstopSurvivesARestartUntilAPilotReleasesIt) {
+  const std::string dir = testing::MakeTempDir("mostar_controller_latch_");
+  Restart(dir);  // first start: unlatched
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+  AliceDrives(50);
+  EXPECT_GT(motors_.wheels().left_mps, 0.0);
+  Estop("olga", true);
+  Estop("olga", true);  // clients repeat it until the robot reports it: recorded once
+  const RobotHealth before = LatestHealth();
+  const DeviceHealth* latch_before = Device(before, "estop_latch");
+  ASSERT_NE(latch_before, nullptr);
+  EXPECT_EQ(Counter(*latch_before, "writes"), 2u);  // the start, the engagement
+  Restart(dir);
+  EXPECT_TRUE(controller_->governor().status().estop_engaged);
+  RobotHealth health = LatestHealth();
+  EXPECT_TRUE(health.estop_engaged);
+  const DeviceHealth* latch = Device(health, "estop_latch");
+  ASSERT_NE(latch, nullptr);
+  EXPECT_EQ(latch->state, DeviceState::kWarn);
+  EXPECT_NE(latch->message.find("engaged before the restart by olga"), std::string::npos)
+      << latch->message;
+  EXPECT_NE(Device(health, "drive_safety")->message.find("engaged before the restart by olga"),
+            std::string::npos);
+  AliceDrives(50);
+  EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0) << "latched after the restart";
+  // Alice (a pilot) releases; after a re-arm the robot drives, and a clean stop restarts free.
+  Estop("alice", false);
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+  AliceDrives(50);
+  EXPECT_GT(motors_.wheels().left_mps, 0.0);
+  Restart(dir);
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+}
+
+TEST_F(RobotControllerTest, AnUncleanStopRestartsLatchedWithTheReasonInHealth) {
+  const std::string dir = testing::MakeTempDir("mostar_controller_latch_");
+  Restart(dir);
+  AliceDrives(20);
+  // The process dies here (watchdog, crash): no clean stop. The next one starts latched.
+  drive::EstopLatchStore next_store(dir);
+  RobotControllerDevices devices;
+  devices.motors = &motors_;
+  devices.estop_latch = &next_store;
+  RobotController next(options_, devices, &link_, &clock_);
+  EXPECT_TRUE(next.governor().status().estop_engaged);
+  next.Step(clock_.SteadyNow());
+  ASSERT_FALSE(link_.healths.empty());
+  const RobotHealth& health = link_.healths.back();
+  EXPECT_TRUE(health.estop_engaged);
+  ASSERT_NE(Device(health, "estop_latch"), nullptr);
+  EXPECT_NE(Device(health, "estop_latch")->message.find("did not stop cleanly"), std::string::npos)
+      << Device(health, "estop_latch")->message;
+}
+
+TEST_F(RobotControllerTest, AReleaseThatCannotBeRecordedDoesNotTakeEffect) {
+  const std::string dir = testing::MakeTempDir("mostar_controller_latch_");
+  {
+    std::ofstream file(dir + "/file");
+    file << "x";
+  }
+  Restart(dir + "/file");  // a state directory that cannot exist: starts latched
+  EXPECT_TRUE(controller_->governor().status().estop_engaged);
+  Estop("alice", false);
+  EXPECT_TRUE(controller_->governor().status().estop_engaged);
+  const RobotHealth health = LatestHealth();
+  EXPECT_TRUE(health.estop_engaged);
+  const DeviceHealth* latch = Device(health, "estop_latch");
+  ASSERT_NE(latch, nullptr);
+  EXPECT_EQ(latch->state, DeviceState::kError);
+  EXPECT_EQ(Counter(*latch, "write_failures"), 2u);  // the start, the release
+  AliceDrives(50);
+  EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0);
 }
 
 TEST_F(RobotControllerTest, StopStopsTheLaserAndBrakesOnce) {

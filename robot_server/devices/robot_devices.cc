@@ -219,8 +219,23 @@ drive::DriveMotors* RobotDevices::motors() const {
   return pattern_robot ? pattern_robot.get() : owned_motors.get();
 }
 
+bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error) {
+  if (config.source() != ServerConfig::HARDWARE) return true;
+  std::string replayed;
+  if (ReplaysLaser(config)) replayed = "laser.replay.file";
+  if (ReplaysCamera(config))
+    replayed += (replayed.empty() ? "" : " and ") + std::string("camera.backend REPLAY");
+  if (replayed.empty()) return true;
+  *error = "sensor replay (" + replayed +
+           ", or --replay-sensors) is refused with source HARDWARE: recorded scans and images "
+           "would drive the real motors. Replay with --source sim or test_pattern, or publish the "
+           "recording alone with --replay";
+  return false;
+}
+
 bool MakeRobotDevices(const ServerConfig& config, const std::string& config_dir, const Clock* clock,
                       drive::DriveSettings* settings, RobotDevices* devices, std::string* error) {
+  if (!CheckReplayIsNotOnHardware(config, error)) return false;
   bool made = false;
   switch (config.source()) {
     case ServerConfig::TEST_PATTERN:

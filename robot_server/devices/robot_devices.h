@@ -39,9 +39,14 @@ struct RobotDevices {
   drive::DriveMotors* motors() const;
 };
 
-// Builds the devices of `config`. Files named in the configuration are relative to
-// `config_dir`. The source may adjust the odometry geometry in `settings` (the simulated or
-// pattern robot's). False with a message naming the key or device on failure.
+// Refuses sensor replay with the HARDWARE source: recorded (re-stamped) scans or images would
+// steer the real motors. False with a message naming the keys and the alternatives.
+bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error);
+
+// Builds the devices of `config` (refused first by CheckReplayIsNotOnHardware). Files named in
+// the configuration are relative to `config_dir`. The source may adjust the odometry geometry
+// in `settings` (the simulated or pattern robot's). False with a message naming the key or
+// device on failure.
 bool MakeRobotDevices(const ServerConfig& config, const std::string& config_dir, const Clock* clock,
                       drive::DriveSettings* settings, RobotDevices* devices, std::string* error);
 

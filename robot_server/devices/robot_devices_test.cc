@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "common/time/fake_clock.h"
+#include "robot_server/server_options.h"
 
 namespace mostar::server {
 namespace {
@@ -48,6 +49,42 @@ TEST(RobotDevicesTest, AMissingReplayFileIsRefusedNamingTheKey) {
                                 &devices, &error));
   EXPECT_EQ(error.rfind("laser.replay.file: ", 0), 0u) << error;
   EXPECT_NE(error.find("/nonexistent/no_such_recording.mostar"), std::string::npos) << error;
+}
+
+TEST(RobotDevicesTest, SensorReplayIsRefusedWithTheHardwareSource) {
+  ServerFlags flags;
+  flags.source = "hardware";
+  flags.replay_sensors = "/data/run.mostar";
+  ServerConfig config;
+  ApplyFlags(flags, &config);
+  drive::DriveSettings settings;
+  RobotDevices devices;
+  std::string error;
+  // Refused before any device is opened (no serial port, no recording is touched).
+  EXPECT_FALSE(MakeRobotDevices(config, "", &SystemClock::Instance(), &settings, &devices, &error));
+  EXPECT_NE(error.find("refused with source HARDWARE"), std::string::npos) << error;
+  EXPECT_NE(error.find("laser.replay.file and camera.backend REPLAY"), std::string::npos) << error;
+  EXPECT_EQ(devices.laser(), nullptr);
+  EXPECT_EQ(devices.motors(), nullptr);
+  // Either replay alone is refused too.
+  ServerConfig laser_only;
+  laser_only.set_source(ServerConfig::HARDWARE);
+  laser_only.mutable_laser()->mutable_replay()->set_file("run.mostar");
+  EXPECT_FALSE(CheckReplayIsNotOnHardware(laser_only, &error));
+  EXPECT_NE(error.find("(laser.replay.file, or --replay-sensors)"), std::string::npos) << error;
+  ServerConfig camera_only;
+  camera_only.set_source(ServerConfig::HARDWARE);
+  camera_only.mutable_camera()->set_backend(camera::CameraConfig::REPLAY);
+  EXPECT_FALSE(CheckReplayIsNotOnHardware(camera_only, &error));
+  EXPECT_NE(error.find("(camera.backend REPLAY, or"), std::string::npos) << error;
+  // The same replay behind the simulated or pattern robot is allowed; hardware alone too.
+  for (const auto source : {ServerConfig::SIM, ServerConfig::TEST_PATTERN}) {
+    config.set_source(source);
+    EXPECT_TRUE(CheckReplayIsNotOnHardware(config, &error)) << error;
+  }
+  ServerConfig hardware;
+  hardware.set_source(ServerConfig::HARDWARE);
+  EXPECT_TRUE(CheckReplayIsNotOnHardware(hardware, &error)) << error;
 }
 
 TEST(TestPatternLaserTest, ScansAtItsRateUntilStoppedAndStartsOnce) {

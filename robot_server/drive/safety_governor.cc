@@ -10,6 +10,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Step along a beam of unknown space when looking for the swept path. unit: m.
+constexpr double kUnknownBeamStepM = 0.02;
 
 // One ramp step of `current` towards `target`: `accel` when speeding up, `decel` when slowing
 // down; a sign change first comes to rest.
@@ -94,7 +96,9 @@ std::vector<std::pair<std::string, uint64_t>> SafetyCounters::AsList() const {
           {"estops", estops},
           {"estop_refused", estop_refused},
           {"sender_restarts", sender_restarts},
-          {"scans", scans}};
+          {"scans", scans},
+          {"unknown_beams", unknown_beams},
+          {"unknown_path_cycles", unknown_path_cycles}};
 }
 
 SafetyGovernor::SafetyGovernor(const Clock& clock, const SafetyOptions& options)
@@ -206,16 +210,28 @@ bool SafetyGovernor::HandleEmergencyStop(const EmergencyStop& estop, bool author
     if (!estop_) ++counters_.estops;
     estop_ = true;
     estop_engaged_by_ = estop.sender_id;
+    estop_reason_.clear();
     DisarmLocked();
     output_linear_mps_ = 0;
     output_angular_radps_ = 0;
   } else if (estop_) {
     estop_ = false;
     estop_engaged_by_.clear();
+    estop_reason_.clear();
     DisarmLocked();
     rearm_required_ = true;
   }
   return true;
+}
+
+void SafetyGovernor::RestoreEstop(const std::string& engaged_by, const std::string& reason) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  estop_ = true;
+  estop_engaged_by_ = engaged_by;
+  estop_reason_ = reason;
+  DisarmLocked();
+  output_linear_mps_ = 0;
+  output_angular_radps_ = 0;
 }
 
 void SafetyGovernor::OnLinkLost(const std::string& client_id) {
@@ -227,49 +243,79 @@ void SafetyGovernor::OnLinkLost(const std::string& client_id) {
 
 void SafetyGovernor::SetLaserScan(const LaserScan& scan) {
   std::vector<Point> points;
+  std::vector<Direction> unknown;
   points.reserve(scan.ranges_m.size());
   for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
     const float r = scan.ranges_m[i];
-    if (!LaserScan::IsValidRange(r) || r < scan.range_min_m) continue;
+    if (LaserScan::IsFreeRange(r)) continue;  // nothing up to the maximum range
     const double a = scan.AngleOf(i);
+    if (!LaserScan::IsValidRange(r) || r < scan.range_min_m) {
+      unknown.push_back(Direction{std::cos(a), std::sin(a)});
+      continue;
+    }
     points.push_back(Point{r * std::cos(a), r * std::sin(a)});
   }
   std::lock_guard<std::mutex> lock(mutex_);
   scan_points_ = std::move(points);
+  unknown_beams_ = std::move(unknown);
+  scan_range_max_m_ = scan.range_max_m;
   scan_stamp_ = scan.stamp;
   have_scan_ = true;
   ++counters_.scans;
+  counters_.unknown_beams += unknown_beams_.size();
 }
 
-double SafetyGovernor::FreeDistanceLocked(double linear_mps, double angular_radps) const {
+double SafetyGovernor::PathDistance(const Point& p, double curvature) const {
   const double half_width = 0.5 * options_.robot_width_m + options_.lateral_margin_m;
-  const double curvature = angular_radps / linear_mps;  // linear_mps > 0
-  double best = kInf;
   if (std::abs(curvature) < 1e-3) {
-    for (const Point& p : scan_points_) {
-      if (p.x_m > 0 && std::abs(p.y_m) <= half_width) {
-        best = std::min(best, p.x_m - options_.front_extent_m);
-      }
-    }
-    return best;
+    return p.x_m > 0 && std::abs(p.y_m) <= half_width ? p.x_m - options_.front_extent_m : kInf;
   }
   // Arc of radius |R| about the centre (0, R); the band |rho - |R|| <= half_width is swept.
   const double radius = 1.0 / curvature;
   const double direction = radius > 0 ? 1.0 : -1.0;  // counter-clockwise for left turns
-  for (const Point& p : scan_points_) {
-    const double bx = p.x_m;
-    const double by = p.y_m - radius;
-    const double rho = std::hypot(bx, by);
-    if (std::abs(rho - std::abs(radius)) > half_width) continue;
-    // Angle travelled from the robot (at (0, -R) from the centre) to the point.
-    const double ax = 0;
-    const double ay = -radius;
-    double phi = std::atan2(direction * (ax * by - ay * bx), ax * bx + ay * by);
-    if (phi < 0) phi += 2 * M_PI;
-    if (phi > M_PI) continue;  // behind, or more than half a turn away
-    best = std::min(best, phi * std::abs(radius) - options_.front_extent_m);
-  }
+  const double bx = p.x_m;
+  const double by = p.y_m - radius;
+  const double rho = std::hypot(bx, by);
+  if (std::abs(rho - std::abs(radius)) > half_width) return kInf;
+  // Angle travelled from the robot (at (0, -R) from the centre) to the point.
+  const double ax = 0;
+  const double ay = -radius;
+  double phi = std::atan2(direction * (ax * by - ay * bx), ax * bx + ay * by);
+  if (phi < 0) phi += 2 * M_PI;
+  if (phi > M_PI) return kInf;  // behind, or more than half a turn away
+  return phi * std::abs(radius) - options_.front_extent_m;
+}
+
+double SafetyGovernor::FreeDistanceLocked(double linear_mps, double angular_radps) const {
+  const double curvature = angular_radps / linear_mps;  // linear_mps > 0
+  double best = kInf;
+  for (const Point& p : scan_points_) best = std::min(best, PathDistance(p, curvature));
   return best;
+}
+
+int SafetyGovernor::UnknownBeamsInPathLocked(double linear_mps, double angular_radps) const {
+  if (unknown_beams_.empty()) return 0;
+  const double curvature = angular_radps / linear_mps;  // linear_mps > 0
+  // A point of the path less than slow_distance ahead of the bumper is at most this far from
+  // the laser (an arc is longer than its chord, plus half the band's width).
+  double reach_m = options_.front_extent_m + options_.slow_distance_m +
+                   0.5 * options_.robot_width_m + options_.lateral_margin_m;
+  if (std::isfinite(scan_range_max_m_) && scan_range_max_m_ > 0) {
+    reach_m = std::min(reach_m, scan_range_max_m_);
+  }
+  int in_path = 0;
+  for (const Direction& d : unknown_beams_) {
+    // The beam could end anywhere along its ray: it is in the path when some point of the ray
+    // lies in the swept band ahead of the bumper, closer than the slow distance.
+    for (double r = kUnknownBeamStepM; r <= reach_m; r += kUnknownBeamStepM) {
+      const double s = PathDistance(Point{r * d.cos_a, r * d.sin_a}, curvature);
+      if (s >= 0 && s < options_.slow_distance_m) {
+        ++in_path;
+        break;
+      }
+    }
+  }
+  return in_path;
 }
 
 WatchdogState SafetyGovernor::StateLocked(SteadyTime /*now*/) const {
@@ -306,21 +352,29 @@ GovernorOutput SafetyGovernor::Update() {
   out.scan_fresh =
       have_scan_ && scan_age <= options_.scan_max_age && scan_age >= -options_.scan_max_age;
   last_scan_fresh_ = out.scan_fresh;
+  last_unknown_in_path_ = 0;
   out.forward_limit_mps = options_.max_linear_mps;
   out.free_distance_m = kNaN;
   const double heading_v = target_v > 0 ? target_v : output_linear_mps_;
   if (heading_v > 0) {
     if (out.scan_fresh) {
-      out.free_distance_m =
-          FreeDistanceLocked(heading_v, target_v > 0 ? target_w : output_angular_radps_);
+      const double heading_w = target_v > 0 ? target_w : output_angular_radps_;
+      out.free_distance_m = FreeDistanceLocked(heading_v, heading_w);
       const double scale = std::clamp((out.free_distance_m - options_.stop_distance_m) /
                                           (options_.slow_distance_m - options_.stop_distance_m),
                                       0.0, 1.0);
       out.forward_limit_mps = scale * options_.max_linear_mps;
+      out.unknown_beams_in_path = UnknownBeamsInPathLocked(heading_v, heading_w);
+      if (out.unknown_beams_in_path > 0) {
+        out.forward_limit_mps = std::min(
+            out.forward_limit_mps, options_.unknown_scan_speed_factor * options_.max_linear_mps);
+        ++counters_.unknown_path_cycles;
+      }
     } else {
       out.forward_limit_mps = options_.unknown_scan_speed_factor * options_.max_linear_mps;
     }
   }
+  last_unknown_in_path_ = out.unknown_beams_in_path;
   target_v = std::min(target_v, out.forward_limit_mps);
 
   if (estop_) {
@@ -348,6 +402,7 @@ SafetyStatus SafetyGovernor::status() const {
   s.armed = armed_;
   s.estop_engaged = estop_;
   s.estop_engaged_by = estop_engaged_by_;
+  s.estop_reason = estop_reason_;
   if (have_command_) {
     s.last_command_age_s = static_cast<float>(ToSeconds(now_steady - last_arrival_));
     s.last_command_sequence = last_sequence_;
@@ -359,20 +414,29 @@ SafetyStatus SafetyGovernor::status() const {
 DeviceHealth SafetyGovernor::Health() const {
   const SafetyStatus s = status();
   bool scan_fresh;
+  int unknown_in_path;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     scan_fresh = last_scan_fresh_;
+    unknown_in_path = last_unknown_in_path_;
   }
   DeviceHealth health;
   health.name = "drive_safety";
-  const bool nominal =
-      (s.state == WatchdogState::kIdle || s.state == WatchdogState::kDriving) && scan_fresh;
+  const bool nominal = (s.state == WatchdogState::kIdle || s.state == WatchdogState::kDriving) &&
+                       scan_fresh && unknown_in_path == 0;
   health.state = nominal ? DeviceState::kOk : DeviceState::kWarn;
   std::ostringstream message;
   message << WatchdogStateName(s.state);
-  if (s.estop_engaged) message << " (e-stop by " << s.estop_engaged_by << ")";
+  if (s.estop_engaged) {
+    message << " (e-stop " << (s.estop_engaged_by.empty() ? "latched" : "by " + s.estop_engaged_by);
+    if (!s.estop_reason.empty()) message << ": " << s.estop_reason;
+    message << ")";
+  }
   message << ", holder " << (s.holder_id.empty() ? "none" : s.holder_id);
   if (!scan_fresh) message << ", no fresh scan";
+  if (unknown_in_path > 0) {
+    message << ", " << unknown_in_path << " unknown laser beams in the path: speed capped";
+  }
   health.message = message.str();
   health.counters = s.counters.AsList();
   return health;

@@ -23,7 +23,10 @@
 // - Forward speed is capped by the free distance along the path ahead (straight corridor or
 //   arc of the commanded curvature, robot width plus margin): zero at `stop_distance_m`, full
 //   at `slow_distance_m`, linear between. A missing or stale scan caps it at
-//   `unknown_scan_speed_factor` of the maximum. Reverse (unseen by the front laser) is limited
+//   `unknown_scan_speed_factor` of the maximum, and so does a beam of unknown space (NaN: a
+//   laser error code such as dazzle; anything but a range or +Inf) that crosses the swept path
+//   ahead of the bumper closer than `slow_distance_m`: an obstacle may hide behind it. Only
+//   +Inf (no echo, beyond range) counts as free. Reverse (unseen by the front laser) is limited
 //   by `max_reverse_mps` only; rotation in place is always allowed.
 // Thread-safe (one internal mutex).
 #pragma once
@@ -95,6 +98,8 @@ struct SafetyCounters {
   uint64_t estop_refused = 0;     // unauthorised engage or release
   uint64_t sender_restarts = 0;
   uint64_t scans = 0;
+  uint64_t unknown_beams = 0;        // beams of unknown space (error codes) in the scans received
+  uint64_t unknown_path_cycles = 0;  // cycles capped by unknown beams in the path ahead
   std::vector<std::pair<std::string, uint64_t>> AsList() const;
 };
 
@@ -108,6 +113,9 @@ struct GovernorOutput {
   // scan is missing or stale or when not driving forward.
   double free_distance_m = 0;
   bool scan_fresh = false;
+  // Beams of unknown space crossing the path ahead (0 when not driving forward); any caps the
+  // forward speed like a missing scan.
+  int unknown_beams_in_path = 0;
 };
 
 struct SafetyStatus {
@@ -116,6 +124,7 @@ struct SafetyStatus {
   bool armed = false;
   bool estop_engaged = false;
   std::string estop_engaged_by;
+  std::string estop_reason;       // of a latch restored at start (RestoreEstop), else ""
   float last_command_age_s = -1;  // since the last accepted command arrived; -1 never
   uint64_t last_command_sequence = 0;
   SafetyCounters counters;
@@ -137,12 +146,17 @@ class SafetyGovernor {
   // E-stop event. `authorised` comes from PilotLease::MayEngageEstop / MayReleaseEstop.
   // Returns false (and counts) when refused.
   bool HandleEmergencyStop(const EmergencyStop& estop, bool authorised);
+  // Starts latched, as the previous run left the e-stop (EstopLatchStore): like an engagement
+  // by `engaged_by` ("" when nobody engaged it, e.g. after an unclean stop), with `reason` in the
+  // health message until the next engagement or release.
+  void RestoreEstop(const std::string& engaged_by, const std::string& reason);
 
   // The client's DDS liveliness or command deadline was lost. Acts like an immediate deadman
   // expiry when it is the holder.
   void OnLinkLost(const std::string& client_id);
 
-  // The latest scan (laser frame; stamp on the robot's wall clock).
+  // The latest scan (laser frame; stamp on the robot's wall clock). A range is an obstacle,
+  // +Inf free space, anything else (NaN, -Inf, below range_min_m) unknown space.
   void SetLaserScan(const LaserScan& scan);
 
   // One control cycle: call at a steady rate (e.g. 50 Hz) and send the result to the motors.
@@ -164,12 +178,20 @@ class SafetyGovernor {
     double x_m;
     double y_m;
   };
+  struct Direction {  // unit vector of a beam of unknown space, laser frame
+    double cos_a;
+    double sin_a;
+  };
 
   void DisarmLocked();
   void LinkLostLocked();
   bool IsStaleLocked(const VelocityCommand& command, std::optional<Duration> offset,
                      SteadyTime now_steady, Time now);
   double FreeDistanceLocked(double linear_mps, double angular_radps) const;
+  // Free distance ahead of the bumper to `p` along the path of `curvature` (1/m, CCW > 0);
+  // +inf when p is outside the swept band (or more than half a turn away).
+  double PathDistance(const Point& p, double curvature) const;
+  int UnknownBeamsInPathLocked(double linear_mps, double angular_radps) const;
   WatchdogState StateLocked(SteadyTime now) const;
 
   const Clock& clock_;
@@ -194,12 +216,16 @@ class SafetyGovernor {
 
   bool estop_ = false;
   std::string estop_engaged_by_;
+  std::string estop_reason_;  // why a restored latch is engaged; "" otherwise
 
   // Scan.
   std::vector<Point> scan_points_;
+  std::vector<Direction> unknown_beams_;
+  double scan_range_max_m_ = 0;  // 0 or non-finite: not limited
   Time scan_stamp_;
   bool have_scan_ = false;
   bool last_scan_fresh_ = false;
+  int last_unknown_in_path_ = 0;
 
   // Output.
   double output_linear_mps_ = 0;

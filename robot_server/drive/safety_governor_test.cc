@@ -14,6 +14,7 @@ using std::chrono::milliseconds;
 
 constexpr Duration kCycle = milliseconds(20);
 constexpr float kInfRange = std::numeric_limits<float>::infinity();
+constexpr float kErrorRange = std::numeric_limits<float>::quiet_NaN();  // an LMS200 error code
 
 // An LMS200-like scan (-90..+90 deg, 1 deg) of the given points (x, y) in the laser frame;
 // other beams see nothing.
@@ -38,6 +39,21 @@ LaserScan WallAt(Time stamp, double x_m) {
   std::vector<std::pair<double, double>> points;
   for (double y = -2.0; y <= 2.0; y += 0.01) points.emplace_back(x_m, y);
   return ScanOf(stamp, points);
+}
+
+// A clear scan whose beams at the given angles (degrees, 0 ahead, CCW) carry `range`.
+LaserScan ClearWithBeams(Time stamp, const std::vector<int>& angles_deg, float range) {
+  LaserScan scan = ScanOf(stamp, {});
+  for (const int a : angles_deg) scan.ranges_m[static_cast<size_t>(a + 90)] = range;
+  return scan;
+}
+
+uint64_t CounterOf(const DeviceHealth& health, const std::string& name) {
+  for (const auto& [counter, value] : health.counters) {
+    if (counter == name) return value;
+  }
+  ADD_FAILURE() << "no counter " << name;
+  return 0;
 }
 
 class SafetyGovernorTest : public ::testing::Test {
@@ -296,6 +312,30 @@ TEST_F(SafetyGovernorTest, EstopLatchesZeroUntilReleasedAndRearmed) {
   EXPECT_EQ(governor_.status().counters.estops, 1u);
 }
 
+TEST_F(SafetyGovernorTest, RestoredLatchHoldsUntilReleasedAndNamesItsReason) {
+  governor_.RestoreEstop("", "the previous run did not stop cleanly");
+  Arm();
+  GovernorOutput out = Drive(0.4, 0, 10);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kEstop);
+  const DeviceHealth health = governor_.Health();
+  EXPECT_EQ(health.state, DeviceState::kWarn);
+  EXPECT_NE(health.message.find("e-stop latched: the previous run did not stop cleanly"),
+            std::string::npos)
+      << health.message;
+  RobotHealth robot;
+  governor_.FillRobotHealth(&robot);
+  EXPECT_TRUE(robot.estop_engaged);
+  EmergencyStop release;
+  release.sender_id = "alice";
+  release.engage = false;
+  EXPECT_TRUE(governor_.HandleEmergencyStop(release, true));
+  EXPECT_EQ(governor_.status().estop_reason, "");
+  EXPECT_EQ(Drive(0.4, 0, 10).linear_mps, 0.0) << "a release needs a re-arm";
+  Arm();
+  EXPECT_GT(Drive(0.4, 0, 10).linear_mps, 0.0);
+}
+
 TEST_F(SafetyGovernorTest, SlowsDownNearAnObstacleAhead) {
   Arm();
   // Bumper at 0.2 m; wall 0.75 m ahead of it: halfway between stop (0.3) and slow (1.2).
@@ -362,6 +402,80 @@ TEST_F(SafetyGovernorTest, MissingOrStaleScanCapsForwardSpeed) {
   out = governor_.Update();
   EXPECT_FALSE(out.scan_fresh);
   EXPECT_EQ(governor_.Health().state, DeviceState::kWarn);
+}
+
+TEST_F(SafetyGovernorTest, ErrorCodedBeamsInThePathCapForwardSpeedLikeAMissingScan) {
+  Arm();
+  const double capped = options_.unknown_scan_speed_factor * options_.max_linear_mps;
+  // A few dazzled beams straight ahead: whatever lies behind them is unknown.
+  const LaserScan dazzled = ClearWithBeams(clock_.Now(), {-2, -1, 0, 1, 2}, kErrorRange);
+  GovernorOutput out = Drive(0.6, 0, 100, &dazzled);
+  EXPECT_TRUE(out.scan_fresh);
+  EXPECT_EQ(out.unknown_beams_in_path, 5);
+  EXPECT_EQ(out.free_distance_m, std::numeric_limits<double>::infinity());  // no obstacle seen
+  EXPECT_NEAR(out.forward_limit_mps, capped, 1e-9);
+  EXPECT_NEAR(out.linear_mps, capped, 1e-9);
+  DeviceHealth health = governor_.Health();
+  EXPECT_EQ(health.state, DeviceState::kWarn);
+  EXPECT_NE(health.message.find("5 unknown laser beams in the path"), std::string::npos)
+      << health.message;
+  EXPECT_EQ(CounterOf(health, "unknown_path_cycles"), 100u);
+  EXPECT_EQ(CounterOf(health, "unknown_beams"), 500u);
+  // A laser blinded on every beam caps too; it does not stop the robot.
+  LaserScan blind = ScanOf(clock_.Now(), {});
+  blind.ranges_m.assign(blind.ranges_m.size(), kErrorRange);
+  out = Drive(0.6, 0, 50, &blind);
+  EXPECT_NEAR(out.linear_mps, capped, 1e-9);
+  // Other values that are no range count as unknown space too: -Inf, 0, below range_min_m.
+  for (const float odd : {-kInfRange, 0.f, 0.01f}) {
+    const LaserScan scan = ClearWithBeams(clock_.Now(), {0}, odd);
+    EXPECT_NEAR(Drive(0.6, 0, 5, &scan).forward_limit_mps, capped, 1e-9) << odd;
+  }
+  // The same beams as "no echo" (+Inf) are free space: the speed comes back.
+  const LaserScan no_echo = ClearWithBeams(clock_.Now(), {-2, -1, 0, 1, 2}, kInfRange);
+  out = Drive(0.6, 0, 100, &no_echo);
+  EXPECT_EQ(out.unknown_beams_in_path, 0);
+  EXPECT_NEAR(out.linear_mps, 0.6, 1e-9);
+  health = governor_.Health();
+  EXPECT_EQ(health.state, DeviceState::kOk) << health.message;
+}
+
+TEST_F(SafetyGovernorTest, ErrorCodedBeamsOutsideThePathDoNotSlow) {
+  Arm();
+  // 0.6 m wide robot + 5 cm margins, bumper 0.2 m ahead: a beam wider than atan(0.35 / 0.2)
+  // = 60 deg leaves the corridor before the bumper line.
+  const LaserScan sides = ClearWithBeams(clock_.Now(), {-90, -75, -62, 62, 75, 90}, kErrorRange);
+  GovernorOutput out = Drive(0.6, 0, 100, &sides);
+  EXPECT_EQ(out.unknown_beams_in_path, 0);
+  EXPECT_NEAR(out.linear_mps, 0.6, 1e-9);
+  EXPECT_EQ(governor_.Health().state, DeviceState::kOk);
+  EXPECT_EQ(CounterOf(governor_.Health(), "unknown_path_cycles"), 0u);
+  // The boundary: a beam at 58 deg still crosses the corridor ahead of the bumper.
+  const LaserScan edge = ClearWithBeams(clock_.Now(), {58}, kErrorRange);
+  EXPECT_EQ(Drive(0.6, 0, 5, &edge).unknown_beams_in_path, 1);
+}
+
+TEST_F(SafetyGovernorTest, ErrorCodedBeamOnTheArcCapsOnlyTheTurnThatCrossesIt) {
+  Arm();
+  const double capped = options_.unknown_scan_speed_factor * options_.max_linear_mps;
+  // A dazzled beam at +65 deg: outside the straight corridor, across the arc of radius 0.6 m
+  // to the left.
+  const LaserScan beam = ClearWithBeams(clock_.Now(), {65}, kErrorRange);
+  GovernorOutput out = Drive(0.3, 0.0, 50, &beam);
+  EXPECT_NEAR(out.linear_mps, 0.3, 1e-9);
+  out = Drive(0.3, 0.5, 50, &beam);
+  EXPECT_EQ(out.unknown_beams_in_path, 1);
+  EXPECT_NEAR(out.linear_mps, capped, 1e-9);
+  out = Drive(0.3, -0.5, 50, &beam);  // turning right, away from it
+  EXPECT_EQ(out.unknown_beams_in_path, 0);
+  EXPECT_NEAR(out.linear_mps, 0.3, 1e-9);
+  // Reverse and rotation in place are not limited by the front laser (G13).
+  const LaserScan ahead = ClearWithBeams(clock_.Now(), {0}, kErrorRange);
+  out = Drive(-0.15, 0, 100, &ahead);
+  EXPECT_NEAR(out.linear_mps, -0.15, 1e-9);
+  out = Drive(0, 0.8, 100, &ahead);
+  EXPECT_NEAR(out.angular_radps, 0.8, 1e-9);
+  EXPECT_EQ(out.unknown_beams_in_path, 0);
 }
 
 TEST_F(SafetyGovernorTest, HealthSummaryCarriesStateAndCounters) {

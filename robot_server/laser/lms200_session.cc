@@ -385,6 +385,12 @@ void Lms200Session::HandleScanFrame(const TimedEvent& event, const ScanCallback&
   last_scan_ = clock_->SteadyNow();
   Count("scans");
   if (beams.invalid() > 0) Count("invalid_beams", beams.invalid());
+  for (int code = 1; code < kLms200BeamCodeCount; ++code) {  // every code but a range
+    if (beams.by_code[code] == 0) continue;
+    const std::string name =
+        std::string("beams_") + BeamCodeName(static_cast<Lms200BeamCode>(code));
+    Count(name.c_str(), beams.by_code[code]);
+  }
   if (values.status.pollution()) Count("pollution_scans");
   if (values.status.is_error()) Count("error_status_scans");
   {

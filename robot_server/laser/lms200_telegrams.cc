@@ -383,13 +383,15 @@ Lms200BeamCode ClassifyValue(uint16_t distance, uint16_t mask) {
   }
 }
 
+bool IsFreeSpaceCode(Lms200BeamCode code) {
+  return code == Lms200BeamCode::kNoEcho || code == Lms200BeamCode::kBeyondRange;
+}
+
 uint64_t Lms200BeamCounts::invalid() const {
   uint64_t total = 0;
   for (int i = 0; i < kLms200BeamCodeCount; ++i) {
     const auto code = static_cast<Lms200BeamCode>(i);
-    if (code != Lms200BeamCode::kRange && code != Lms200BeamCode::kBeyondRange) {
-      total += by_code[i];
-    }
+    if (code != Lms200BeamCode::kRange && !IsFreeSpaceCode(code)) total += by_code[i];
   }
   return total;
 }
@@ -432,7 +434,7 @@ bool ToLaserScan(const Lms200MeasuredValues& values, uint8_t measuring_mode, Las
     float range = std::numeric_limits<float>::quiet_NaN();
     if (code == Lms200BeamCode::kRange) {
       range = static_cast<float>(distance * unit_m);
-    } else if (code == Lms200BeamCode::kBeyondRange) {
+    } else if (IsFreeSpaceCode(code)) {
       range = std::numeric_limits<float>::infinity();
     }
     scan->ranges_m[i] = range;

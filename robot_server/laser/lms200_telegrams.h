@@ -201,27 +201,33 @@ struct Lms200MeasuredValues {
 bool DecodeScanReply(const Lms200Frame& frame, const Lms200ScanDecodeOptions& options,
                      Lms200MeasuredValues* out, std::string* error);
 
-// Meaning of one value word after masking (TL 10.8.1; same pattern for 14/15/16-bit modes).
+// Meaning of one value word after masking (TL 10.8.1; same pattern for 14/15/16-bit modes),
+// and how a scan carries it (REP 117): only "no echo" and "beyond range" say that nothing was
+// hit up to the maximum range (free space, +Inf); every error code says that the beam measured
+// nothing (unknown space, NaN), so an obstacle may hide behind it (docs/safety.md, G15).
 enum class Lms200BeamCode : uint8_t {
   kRange = 0,
-  kBeyondRange,   // mask - 8 (0x1FF7): value > maximum -> +Inf
-  kNoEcho,        // mask     (0x1FFF): no stop signal -> NaN
-  kDazzle,        // mask - 1 (0x1FFE) -> NaN
+  kBeyondRange,   // mask - 8 (0x1FF7): value > maximum measurable distance -> +Inf
+  kNoEcho,        // mask     (0x1FFF): no stop signal, nothing reflected in range -> +Inf
+  kDazzle,        // mask - 1 (0x1FFE): dazzled (blinded by light) -> NaN
   kOverflow,      // mask - 2 (0x1FFD): operation overflow -> NaN
-  kLowSignal,     // mask - 4 (0x1FFB): signal/noise too small -> NaN
+  kLowSignal,     // mask - 4 (0x1FFB): signal/noise ratio too small -> NaN
   kChannelError,  // mask - 5 (0x1FFA): channel 1 read error -> NaN
-  kOtherError,    // other codes in mask-8 .. mask -> NaN
+  kOtherError,    // other codes in mask-8 .. mask (undocumented) -> NaN
 };
 constexpr int kLms200BeamCodeCount = 8;
 const char* BeamCodeName(Lms200BeamCode code);
 Lms200BeamCode ClassifyValue(uint16_t distance, uint16_t mask);
+// True for the codes that mean free space (kNoEcho, kBeyondRange): +Inf in a scan.
+bool IsFreeSpaceCode(Lms200BeamCode code);
 
 struct Lms200BeamCounts {
   uint64_t by_code[kLms200BeamCodeCount] = {};
-  uint64_t invalid() const;  // every code but kRange and kBeyondRange
+  uint64_t invalid() const;  // error codes: every code but kRange, kBeyondRange and kNoEcho
 };
 
-// Fills ranges (metres; NaN for error codes, +Inf for "beyond range"), the angles (see the
+// Fills ranges (metres; +Inf for "no echo" and "beyond range", NaN for the error codes), the
+// angles (see the
 // top of this file) and, for reflector-level modes, intensities (the level). Does not touch
 // `stamp`, `sequence`, `scan_time_s`. Partial (interlaced) scans are refused.
 bool ToLaserScan(const Lms200MeasuredValues& values, uint8_t measuring_mode, LaserScan* scan,

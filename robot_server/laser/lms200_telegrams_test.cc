@@ -136,18 +136,27 @@ TEST(Lms200TelegramsTest, MasksDistanceByMeasuringMode) {
   EXPECT_FALSE(ToLaserScan(values, 0x3F, &scan, nullptr, &error));  // reflectivity mode
 }
 
-TEST(Lms200TelegramsTest, ErrorCodesAreInvalidBeamsNotRanges) {
+// Each code of TL 10.8.1 with what a scan must carry: +Inf (nothing hit up to the maximum range:
+// free space) only for "no echo" and "beyond range"; NaN (unknown space) for every error code.
+TEST(Lms200TelegramsTest, EachCodeDecodesToFreeOrUnknownSpace) {
+  enum class Space { kFree, kUnknown };
   struct Case {
     uint16_t code_13bit;
     Lms200BeamCode expected;
+    Space space;
   };
   const Case cases[] = {
-      {0x1FFF, Lms200BeamCode::kNoEcho},       {0x1FFE, Lms200BeamCode::kDazzle},
-      {0x1FFD, Lms200BeamCode::kOverflow},     {0x1FFB, Lms200BeamCode::kLowSignal},
-      {0x1FFA, Lms200BeamCode::kChannelError}, {0x1FF7, Lms200BeamCode::kBeyondRange},
-      {0x1FF9, Lms200BeamCode::kOtherError},
+      {0x1FFF, Lms200BeamCode::kNoEcho, Space::kFree},
+      {0x1FFE, Lms200BeamCode::kDazzle, Space::kUnknown},
+      {0x1FFD, Lms200BeamCode::kOverflow, Space::kUnknown},
+      {0x1FFC, Lms200BeamCode::kOtherError, Space::kUnknown},
+      {0x1FFB, Lms200BeamCode::kLowSignal, Space::kUnknown},
+      {0x1FFA, Lms200BeamCode::kChannelError, Space::kUnknown},
+      {0x1FF9, Lms200BeamCode::kOtherError, Space::kUnknown},
+      {0x1FF8, Lms200BeamCode::kOtherError, Space::kUnknown},
+      {0x1FF7, Lms200BeamCode::kBeyondRange, Space::kFree},
   };
-  for (const uint8_t mode : {0x00, 0x03, 0x05}) {
+  for (const uint8_t mode : {0x00, 0x03, 0x05, 0x0F}) {
     const uint16_t mask = DistanceMask(mode);
     for (const Case& c : cases) {
       const uint16_t code = static_cast<uint16_t>(mask - (0x1FFF - c.code_13bit));
@@ -160,17 +169,21 @@ TEST(Lms200TelegramsTest, ErrorCodesAreInvalidBeamsNotRanges) {
       LaserScan scan;
       Lms200BeamCounts counts;
       ASSERT_TRUE(ToLaserScan(values, mode, &scan, &counts, &error)) << error;
-      EXPECT_EQ(counts.by_code[static_cast<int>(c.expected)], 1u)
-          << BeamCodeName(c.expected) << " mode " << int(mode);
-      EXPECT_FALSE(LaserScan::IsValidRange(scan.ranges_m[10]));
-      if (c.expected == Lms200BeamCode::kBeyondRange) {
-        EXPECT_TRUE(std::isinf(scan.ranges_m[10]));
-        EXPECT_EQ(counts.invalid(), 0u);
+      const std::string what =
+          std::string(BeamCodeName(c.expected)) + " in mode " + std::to_string(int(mode));
+      EXPECT_EQ(ClassifyValue(code, mask), c.expected) << what;
+      EXPECT_EQ(counts.by_code[static_cast<int>(c.expected)], 1u) << what;
+      EXPECT_EQ(counts.by_code[static_cast<int>(Lms200BeamCode::kRange)], 180u) << what;
+      EXPECT_FALSE(LaserScan::IsValidRange(scan.ranges_m[10])) << what;
+      if (c.space == Space::kFree) {
+        EXPECT_TRUE(std::isinf(scan.ranges_m[10]) && scan.ranges_m[10] > 0) << what;
+        EXPECT_EQ(counts.invalid(), 0u) << what;
       } else {
-        EXPECT_TRUE(std::isnan(scan.ranges_m[10]));
-        EXPECT_EQ(counts.invalid(), 1u);
+        EXPECT_TRUE(std::isnan(scan.ranges_m[10])) << what;
+        EXPECT_EQ(counts.invalid(), 1u) << what;
       }
-      EXPECT_FLOAT_EQ(scan.ranges_m[11], 1.0f);
+      EXPECT_FLOAT_EQ(scan.ranges_m[9], 1.0f) << what;
+      EXPECT_FLOAT_EQ(scan.ranges_m[11], 1.0f) << what;
     }
   }
   // Largest valid 13-bit value.

@@ -121,6 +121,9 @@ void LaserRaycaster::Measure(const Pose2D& pose, double angle_min, double increm
     double measured = params_.noise_sigma_m > 0 ? range + noise(rng_) : range;
     switch (response) {
       case proto::NO_ECHO:
+        (*ranges)[i] = kInf;
+        continue;
+      case proto::DAZZLE:
         (*ranges)[i] = kNaN;
         continue;
       case proto::SPURIOUS:

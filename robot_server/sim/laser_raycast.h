@@ -3,9 +3,10 @@
 // Beam i has angle angle_min + i * increment in the laser frame (REP-103: x forward, y left,
 // counter-clockwise, 0 ahead; the 180 deg scan spans -90..+90 deg). The laser frame is the robot
 // base frame raised by `height_m` and pitched down by `pitch_rad` (0 = a horizontal plane, which
-// never meets the floor). Range values follow mostar::LaserScan: metres, NaN = no echo (NO_ECHO
-// surface, dark ABSORB_DARK cell, dark floor square that absorbs), +Inf = nothing within the
-// maximum range. The scan is taken at one pose (the motion during the ~13 ms sweep is ignored).
+// never meets the floor). Range values follow mostar::LaserScan: metres, +Inf = no echo (nothing
+// within the maximum range, a NO_ECHO surface, a dark ABSORB_DARK cell, a dark floor square that
+// absorbs), NaN = the scanner's error code (a DAZZLE surface). The scan is taken at one pose (the
+// motion during the ~13 ms sweep is ignored).
 #pragma once
 
 #include <cstdint>

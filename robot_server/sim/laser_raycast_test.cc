@@ -93,7 +93,7 @@ TEST(LaserRaycastTest, RaisedObjectAboveThePlaneIsNotSeen) {
   EXPECT_NEAR(laser.Scan(Pose2D{}, Time(), nullptr).ranges_m[BeamAt(p, 0)], 3.0, 1e-4);
 }
 
-TEST(LaserRaycastTest, NoEchoSurfaceGivesNaN) {
+TEST(LaserRaycastTest, NoEchoSurfaceGivesInfinityLikeNothingInRange) {
   const World world(OpenFloor(std::string(kWallAt3m) +
                               "cylinder { x_m: 1.5 y_m: 0 radius_m: 0.2 height_m: 1 "
                               "material { laser: NO_ECHO } }"));
@@ -101,8 +101,21 @@ TEST(LaserRaycastTest, NoEchoSurfaceGivesNaN) {
   LaserRaycaster laser(world, p, 1);
   std::vector<float> truth;
   const LaserScan scan = laser.Scan(Pose2D{}, Time(), &truth);
-  EXPECT_TRUE(std::isnan(scan.ranges_m[BeamAt(p, 0)]));
+  EXPECT_TRUE(LaserScan::IsFreeRange(scan.ranges_m[BeamAt(p, 0)]));
   EXPECT_NEAR(truth[BeamAt(p, 0)], 1.3, 1e-4);  // the truth knows the bin is there
+  EXPECT_NEAR(scan.ranges_m[BeamAt(p, 0.5)], 3.0 / std::cos(scan.AngleOf(BeamAt(p, 0.5))), 1e-4);
+}
+
+TEST(LaserRaycastTest, DazzlingSurfaceGivesNaN) {
+  const World world(OpenFloor(std::string(kWallAt3m) +
+                              "box { x_m: 1.5 y_m: 0 size_x_m: 0.1 size_y_m: 0.4 height_m: 1 "
+                              "material { laser: DAZZLE } }"));
+  const LaserParams p = Exact();
+  LaserRaycaster laser(world, p, 1);
+  std::vector<float> truth;
+  const LaserScan scan = laser.Scan(Pose2D{}, Time(), &truth);
+  EXPECT_TRUE(std::isnan(scan.ranges_m[BeamAt(p, 0)]));
+  EXPECT_NEAR(truth[BeamAt(p, 0)], 1.45, 1e-4);
   EXPECT_NEAR(scan.ranges_m[BeamAt(p, 0.5)], 3.0 / std::cos(scan.AngleOf(BeamAt(p, 0.5))), 1e-4);
 }
 
@@ -146,11 +159,12 @@ TEST(LaserRaycastTest, DarkCheckerCellsAbsorbTheBeam) {
   const LaserParams p = Exact();
   LaserRaycaster laser(world, p, 1);
   const LaserScan scan = laser.Scan(Pose2D{}, Time(), nullptr);
-  int nan = 0, valid = 0;
+  int absorbed = 0, valid = 0;
   for (size_t i = BeamAt(p, -0.7); i <= BeamAt(p, 0.7); ++i) {
-    std::isnan(scan.ranges_m[i]) ? ++nan : ++valid;
+    EXPECT_FALSE(std::isnan(scan.ranges_m[i])) << "beam " << i;  // no echo is not an error
+    LaserScan::IsFreeRange(scan.ranges_m[i]) ? ++absorbed : ++valid;
   }
-  EXPECT_GT(nan, 20);
+  EXPECT_GT(absorbed, 20);
   EXPECT_GT(valid, 20);
 }
 
@@ -161,19 +175,21 @@ TEST(LaserRaycastTest, PitchedPlaneMeetsTheFloorAndBlackSquaresAbsorb) {
   LaserParams p = Exact();
   p.pitch_rad = 0.1;
   LaserRaycaster laser(world, p, 1);
-  const LaserScan scan = laser.Scan(Pose2D{}, Time(), nullptr);
-  int nan = 0, valid = 0;
+  std::vector<float> truth;
+  const LaserScan scan = laser.Scan(Pose2D{}, Time(), &truth);
+  int absorbed = 0, valid = 0;
   for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
     const float r = scan.ranges_m[i];
-    if (std::isnan(r)) {
-      ++nan;
+    EXPECT_FALSE(std::isnan(r)) << "beam " << i;
+    if (LaserScan::IsFreeRange(r) && std::isfinite(truth[i])) {
+      ++absorbed;  // the floor is there, but black
     } else if (std::isfinite(r)) {
       ++valid;
       const double expected = p.height_m / (std::cos(scan.AngleOf(i)) * std::sin(p.pitch_rad));
       EXPECT_NEAR(r, expected, 1e-3) << "beam " << i;
     }
   }
-  EXPECT_GT(nan, 30);
+  EXPECT_GT(absorbed, 30);
   EXPECT_GT(valid, 30);
 }
 

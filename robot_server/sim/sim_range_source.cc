@@ -8,9 +8,6 @@ void SimWorldRangeSource::Sample(SteadyTime time, float angle_min_rad, float ang
                                  int count, std::vector<float>* ranges_m) {
   world_->SampleRanges(sim_origin_ + (time - steady_origin_), angle_min_rad, angle_increment_rad,
                        count, ranges_m);
-  for (float& r : *ranges_m) {
-    if (std::isinf(r)) r = 1000.f;  // beyond range, not "no echo"
-  }
 }
 
 }  // namespace mostar::sim

@@ -10,8 +10,9 @@
 namespace mostar::sim {
 
 // Maps the emulator's monotonic clock onto simulated time: sim time = sim_origin +
-// (steady - steady_origin). Beams beyond the maximum range are returned as a large finite
-// distance (the emulator encodes them as "beyond range"), no-echo beams as NaN. Thread-safe
+// (steady - steady_origin). The ranges are those of the simulated scan: +Inf where nothing
+// echoes within the maximum range (an absorbing surface, or nothing there; the emulator sends
+// "no echo"), NaN where the scanner is dazzled (the emulator sends the dazzle code). Thread-safe
 // (SimWorld is).
 class SimWorldRangeSource final : public RangeSource {
  public:

@@ -68,7 +68,7 @@ cv::Mat DrawMap(const SimWorld& sim, const LaserScan& scan, const Pose2D& pose) 
                    pose.y_m + 3 * std::sin(pose.theta_rad + a)),
              cv::Scalar(40, 160, 40), 1);
   }
-  // Laser points: red; no-echo beams as short grey rays.
+  // Laser points: red; error-coded (unknown) beams as short grey rays.
   for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
     const double a = pose.theta_rad + scan.AngleOf(i);
     const float r = scan.ranges_m[i];

@@ -63,8 +63,8 @@ class SimWorld {
 
   // A laser scan (laser frame) at t; `truth` gets the noise-free ranges and the pose.
   LaserScan ScanAt(Time t, LaserGroundTruth* truth = nullptr);
-  // The ranges of ScanAt(t), for the LMS200 emulator: metres, NaN = no echo, +Inf = beyond
-  // the maximum range, beam 0 at the rightmost angle.
+  // The ranges of ScanAt(t), for the LMS200 emulator: metres, +Inf = no echo (nothing within
+  // the maximum range), NaN = dazzled, beam 0 at the rightmost angle.
   std::vector<float> RangesAt(Time t);
   // Ranges of `count` beams at angle_min + i * increment (laser frame) at t, same conventions;
   // the beam layout is the caller's (the LMS200 emulator follows its host's configuration).

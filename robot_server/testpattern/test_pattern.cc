@@ -101,7 +101,7 @@ LaserScan SyntheticScan(const KinematicRobot& robot, Time stamp, uint64_t sequen
     if (dy > 1e-9) t = std::min(t, (room.half_width_m - pose.y_m) / dy);
     if (dy < -1e-9) t = std::min(t, (-room.half_width_m - pose.y_m) / dy);
     scan.ranges_m.push_back(t <= scan.range_max_m ? static_cast<float>(t)
-                                                  : std::numeric_limits<float>::quiet_NaN());
+                                                  : std::numeric_limits<float>::infinity());
   }
   return scan;
 }

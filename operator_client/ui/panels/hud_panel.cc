@@ -21,6 +21,13 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
                 static_cast<unsigned long long>(video.pairs_dropped),
                 static_cast<unsigned long long>(video.broken_images));
   }
+  if (video.oversized_images > 0 || video.future_dropped > 0 || video.stamp_resyncs > 0) {
+    ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1),
+                       "refused: oversized JPEG %llu  future pairs %llu  (order restarts %llu)",
+                       static_cast<unsigned long long>(video.oversized_images),
+                       static_cast<unsigned long long>(video.future_dropped),
+                       static_cast<unsigned long long>(video.stamp_resyncs));
+  }
   if (robot.clock.known) {
     ImGui::Text("clock offset %+.1f ms  rtt %.1f ms",
                 ToSeconds(robot.clock.responder_minus_requester) * 1e3,
@@ -60,6 +67,10 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
       ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s %s: %s", d.name.c_str(),
                          DeviceStateName(d.state), d.message.c_str());
     }
+  }
+  if (status.pending_estop) {
+    ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "e-stop %s sent, not yet confirmed by the robot",
+                       *status.pending_estop ? "engage" : "release");
   }
   if (status.pilot) {
     ImGui::Text("drive %s  v %.2f m/s  w %.2f rad/s  scale %.0f%%",

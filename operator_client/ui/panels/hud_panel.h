@@ -2,6 +2,7 @@
 // and watchdog, device problems, the drive command and the status line. ImGui; render thread.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "common/time/time.h"
@@ -24,6 +25,8 @@ struct HudStatus {
   DriveOutput drive;        // the command being sent
   double drive_scale = 1;   // [0.1, 1]
   std::string status_line;  // may be empty
+  // An e-stop engagement (true) or release (false) sent and not yet reported by the robot.
+  std::optional<bool> pending_estop;
 };
 
 // `now`: steady time, for the ages of the last samples.

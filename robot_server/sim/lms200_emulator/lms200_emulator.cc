@@ -132,7 +132,9 @@ std::vector<uint8_t> Lms200Emulator::ScanPayloadLocked(SteadyTime scan_end) {
       word = 0;  // reflectivity mode: not modelled
     } else if (forced != beam_codes_.end()) {
       word = static_cast<uint16_t>(mask - (0x1FFF - forced->second));
-    } else if (!std::isfinite(r) || r <= 0) {
+    } else if (!(r > 0)) {
+      word = static_cast<uint16_t>(mask - 1);  // NaN, not positive: a measurement error (dazzle)
+    } else if (std::isinf(r)) {
       word = mask;  // no echo
     } else {
       const double counts = std::round(r / unit_m);

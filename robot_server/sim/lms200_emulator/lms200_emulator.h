@@ -17,7 +17,8 @@
 //   is busy (as fast as the baud allows);
 // - a request from the host aborts the telegram in flight (the host sees a truncated frame);
 // - mm/cm units, measuring-mode distance masks, 0x1FF7 beyond the maximum (8.183 m in 13-bit
-//   mm mode), 0x1FFF where there is no echo, optional real-time indices;
+//   mm mode), 0x1FFF where there is no echo (+Inf), the dazzle code 0x1FFE where the range
+//   source has no measurement (NaN), optional real-time indices;
 // - fault injection: garbage bytes, CRC errors, truncated telegrams, NAKs, silence, forced
 //   beam error codes.
 // Thread-safe: every public method locks an internal mutex.

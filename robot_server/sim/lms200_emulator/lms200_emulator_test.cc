@@ -107,12 +107,15 @@ TEST(Lms200EmulatorTest, StreamsAsFastAsTheLineAllows) {
   EXPECT_EQ(values.words[0], 3000);   // wall 3 m to the right
 }
 
-TEST(Lms200EmulatorTest, EncodesNoEchoBeyondRangeAndForcedCodes) {
+TEST(Lms200EmulatorTest, EncodesNoEchoBeyondRangeErrorsAndForcedCodes) {
   Lms200EmulatorOptions options;
   options.initial_baud = 38400;
   options.variant = {180, 100};
-  FunctionRangeSource source(
-      [](SteadyTime, float a) { return a > 0.5f ? NAN : (a < -0.5f ? 20.0f : 2.0f); });
+  FunctionRangeSource source([](SteadyTime, float a) {
+    if (a > 0.5f) return INFINITY;    // nothing echoes
+    if (a > 0.3f) return NAN;         // no measurement
+    return a < -0.5f ? 20.0f : 2.0f;  // beyond the maximum, in range
+  });
   Lms200Emulator emulator(options, &source, SteadyTime{});
   emulator.SetBeamCode(90, 0x1FFE);
   const Bytes poll = laser::PollScanRequest();
@@ -128,6 +131,7 @@ TEST(Lms200EmulatorTest, EncodesNoEchoBeyondRangeAndForcedCodes) {
   ASSERT_TRUE(laser::DecodeScanReply(events[1].frame, {}, &values, &error)) << error;
   EXPECT_EQ(values.words[0], 0x1FF7);    // 20 m > 8.183 m in mm mode
   EXPECT_EQ(values.words[180], 0x1FFF);  // no echo
+  EXPECT_EQ(values.words[110], 0x1FFE);  // NaN: dazzle
   EXPECT_EQ(values.words[90], 0x1FFE);   // forced dazzle
   EXPECT_EQ(values.words[80], 2000);
 }

@@ -172,11 +172,11 @@ TEST(Lms200PtySessionTest, WritesConfigOnceForMeasuringModeAndDecodesItsMask) {
   EXPECT_NEAR(scan.range_max_m, 16.374, 0.001);
 }
 
-TEST(Lms200PtySessionTest, ErrorCodesBecomeInvalidBeams) {
+TEST(Lms200PtySessionTest, ErrorCodesBecomeUnknownBeamsAndNoEchoFreeSpace) {
   Lms200EmulatorOptions options;
   options.initial_baud = 38400;
   options.variant = {180, 100};
-  FunctionRangeSource source([](SteadyTime, float a) { return a > 1.0f ? NAN : 4.0f; });
+  FunctionRangeSource source([](SteadyTime, float a) { return a > 1.0f ? INFINITY : 4.0f; });
   PtyFixture f(options, Config38400(), &source);
   f.emulator().SetBeamCode(45, 0x1FFE);  // dazzle
   f.emulator().SetBeamCode(46, 0x1FFD);  // overflow
@@ -185,9 +185,16 @@ TEST(Lms200PtySessionTest, ErrorCodesBecomeInvalidBeams) {
   const LaserScan scan = f.last_scan();
   EXPECT_TRUE(std::isnan(scan.ranges_m[45]));
   EXPECT_TRUE(std::isnan(scan.ranges_m[46]));
-  EXPECT_TRUE(std::isnan(scan.ranges_m[180]));  // no echo
+  EXPECT_TRUE(LaserScan::IsFreeRange(scan.ranges_m[180]));  // no echo
   EXPECT_FLOAT_EQ(scan.ranges_m[44], 4.0f);
-  EXPECT_GT(Counter(f.scanner().Health(), "invalid_beams"), 0u);
+  const DeviceHealth health = f.scanner().Health();
+  const uint64_t scans = Counter(health, "scans");
+  EXPECT_GE(scans, 3u);
+  // Two error-coded beams per scan (the scan being counted may not have its beams counted yet).
+  EXPECT_GE(Counter(health, "invalid_beams"), 2 * (scans - 1));
+  EXPECT_GE(Counter(health, "beams_dazzle"), scans - 1);
+  EXPECT_GE(Counter(health, "beams_overflow"), scans - 1);
+  EXPECT_GE(Counter(health, "beams_no_echo"), scans - 1);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ void RoomRangeSource::Sample(SteadyTime, float angle_min_rad, float angle_increm
     if (dy > 1e-9) t = std::min(t, (width_m_ - y_m_) / dy);
     if (dy < -1e-9) t = std::min(t, -y_m_ / dy);
     (*ranges_m)[static_cast<size_t>(i)] =
-        std::isfinite(t) && t > 0 ? static_cast<float>(t) : std::numeric_limits<float>::quiet_NaN();
+        t > 0 ? static_cast<float>(t) : std::numeric_limits<float>::infinity();
   }
 }
 

@@ -12,8 +12,10 @@ class RangeSource {
  public:
   virtual ~RangeSource() = default;
   // Ranges (metres) of `count` beams at angles angle_min_rad + i * angle_increment_rad in the
-  // laser frame (REP-103: CCW, 0 = ahead), measured at `time`. NaN = no echo. Called on the
-  // emulator's thread; implementations shared with other threads must synchronise.
+  // laser frame (REP-103: CCW, 0 = ahead), measured at `time`, as a LaserScan carries them:
+  // +Inf = no echo (sent as 0x1FFF), a finite range above the maximum = beyond range (0x1FF7),
+  // NaN = no measurement (sent as the dazzle error code). Called on the emulator's thread;
+  // implementations shared with other threads must synchronise.
   virtual void Sample(SteadyTime time, float angle_min_rad, float angle_increment_rad, int count,
                       std::vector<float>* ranges_m) = 0;
 };
