@@ -170,7 +170,7 @@ TEST(EndpointTest, StrongerCommandWriterOwnsTheTopic) {
   Reader<CommandType> reader(*robot, "rt/test/cmd", Stream::kCommand,
                              [&](const wire::VelocityCommand& c) {
                                std::lock_guard<std::mutex> lock(mutex);
-                               senders.push_back(c.sender_id());
+                               senders.push_back(c.sender_id().to_string());
                              });
   Writer<CommandType> weak(*pilot_a, "rt/test/cmd", Stream::kCommand, 10);
   Writer<CommandType> strong(*pilot_b, "rt/test/cmd", Stream::kCommand, 20);
@@ -188,6 +188,49 @@ TEST(EndpointTest, StrongerCommandWriterOwnsTheTopic) {
   // After ownership settles, only the stronger writer gets through.
   ASSERT_GE(senders.size(), 10u);
   for (size_t i = senders.size() - 5; i < senders.size(); ++i) EXPECT_EQ(senders[i], "pilot-b");
+}
+
+identity::GuidPrefix PrefixOf(const Participant& p) {
+  identity::GuidPrefix prefix;
+  const auto guid = p.get()->guid();
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), prefix.begin());
+  return prefix;
+}
+
+// A command writer that goes away is reported with its identity (liveliness of the holder).
+TEST(EndpointTest, ReportsWhichCommandWriterLostItsLiveliness) {
+  auto robot = MakeParticipant("robot");
+  auto pilot = MakeParticipant("pilot");
+  ASSERT_TRUE(robot && pilot);
+  std::mutex mutex;
+  std::vector<LivelinessChange> changes;
+  Reader<CommandType> reader(*robot, "rt/test/cmd_live", Stream::kCommand, {},
+                             [&](const LivelinessChange& change) {
+                               std::lock_guard<std::mutex> lock(mutex);
+                               changes.push_back(change);
+                             });
+  auto writer = std::make_unique<Writer<CommandType>>(*pilot, "rt/test/cmd_live", Stream::kCommand);
+  ASSERT_TRUE(WaitFor([&] { return reader.matched() == 1 && writer->matched() == 1; },
+                      std::chrono::seconds(10)));
+  VelocityCommand c{FromUnixNanos(1), 1, "pilot", 0, 0, false};
+  for (int i = 0; i < 5; ++i) {  // manual-by-topic liveliness: each write asserts it
+    ASSERT_TRUE(writer->Write(ToIdl(c)));
+    ++c.sequence;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  auto lost = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (const LivelinessChange& ch : changes) {
+      if (ch.alive_count_change < 0) return true;
+    }
+    return false;
+  };
+  // Silent for longer than the liveliness lease: lost.
+  ASSERT_TRUE(WaitFor(lost, std::chrono::seconds(5)));
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_FALSE(changes.empty());
+  EXPECT_GT(changes.front().alive_count_change, 0);  // alive at its first write
+  for (const LivelinessChange& ch : changes) EXPECT_EQ(ch.writer.participant, PrefixOf(*pilot));
 }
 
 }  // namespace

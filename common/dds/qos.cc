@@ -80,10 +80,23 @@ fdds::DataReaderQos ReaderQos(Stream stream) {
   const Common c = CommonOf(stream);
   qos.reliability().kind = c.reliability;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = c.depth;
+  const int32_t depth = c.depth;
+  qos.history().depth = depth;
   qos.durability().kind = c.durability;
+  // Bounded: keyless topics have one instance; keep-last holds at most `depth` samples of it.
+  // The sample limit leaves room for kMissingSampleAllowance samples announced but not yet
+  // received (a reliable reader refuses a sample while history + missing reach the limit).
+  qos.resource_limits().max_instances = 1;
+  qos.resource_limits().max_samples_per_instance = depth + kMissingSampleAllowance;
+  qos.resource_limits().max_samples = depth + kMissingSampleAllowance;
+  qos.resource_limits().allocated_samples = depth;
+  // Bounded types (commands, e-stop, control requests, clock probes): samples of the type's
+  // maximum size, preallocated; a bigger one is refused by the RTPS reader. Other types
+  // (images, scans) grow as needed.
   qos.endpoint().history_memory_policy =
-      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+      stream == Stream::kCommand || stream == Stream::kControl
+          ? eprosima::fastrtps::rtps::PREALLOCATED_MEMORY_MODE
+          : eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   if (stream == Stream::kCommand) {
     qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
     qos.deadline().period = Duration_t(kCommandDeadlineSeconds);

@@ -1,19 +1,23 @@
 // QoS per stream kind: the one place where mostar's DDS QoS is defined.
 //
-// | stream   | reliability | history     | durability      | other |
-// |----------|-------------|-------------|-----------------|----------------------------------------|
-// | kVideo   | reliable    | keep last 1 | volatile        | heartbeat 50 ms; the publisher skips a
-// frame while the previous one is unacknowledged (ack-clock), so video never offers more than the
-// link carries; best-effort readers (ROS tools) match too | | kSensor  | best effort | keep last 5
-// | volatile        | scans, odometry (ROS SensorDataQoS-compatible) | | kCommand | reliable    |
-// keep last 1 | volatile        | exclusive ownership, deadline 200 ms, manual-by-topic liveliness
-// 500 ms | | kState   | reliable    | keep last 1 | transient local | lease, health: late joiners
-// get the latest | | kControl | reliable    | keep last 10| volatile        | control requests,
-// e-stop, clock probes |
+// - kVideo: reliable, keep last 1, volatile, heartbeat 50 ms. The publisher skips a frame
+//   while the previous one is unacknowledged (ack-clock), so video never offers more than the
+//   link carries; best-effort readers (ROS tools) match too.
+// - kSensor: best effort, keep last 5, volatile: scans, odometry (ROS SensorDataQoS-compatible).
+// - kCommand: reliable, keep last 1, volatile, exclusive ownership (strength = the writer's),
+//   deadline 200 ms, manual-by-topic liveliness 500 ms.
+// - kState: reliable, keep last 1, transient local: lease, health, camera info (late joiners
+//   get the latest).
+// - kControl: reliable, keep last 10, volatile: control requests, e-stop, clock probes.
+// Readers hold at most their history depth of one instance (topics are keyless; max_instances
+// 1, max_samples depth + kMissingSampleAllowance); kCommand and kControl readers preallocate
+// samples of the type's maximum size (their types are bounded, idl/mostar_msgs.idl), so a
+// bigger sample is refused before it is read.
 // All writers publish asynchronously (Fast DDS's own sending thread), so write() never blocks
 // the caller on a full transport.
 #pragma once
 
+#include <cstdint>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
@@ -31,5 +35,7 @@ eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 constexpr double kCommandDeadlineSeconds = 0.2;
 // Liveliness lease of the command stream (MANUAL_BY_TOPIC: each write asserts it).
 constexpr double kCommandLivelinessSeconds = 0.5;
+// Reader sample limit beyond the depth: room for samples a reliable reader knows are missing.
+constexpr int32_t kMissingSampleAllowance = 32;
 
 }  // namespace mostar::dds

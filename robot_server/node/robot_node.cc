@@ -77,8 +77,10 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       [self](const dds::wire::VelocityCommand& c) {
         if (self->callbacks_.on_command) self->callbacks_.on_command(dds::FromIdl(c));
       },
-      [self](int alive) {
-        if (self->callbacks_.on_command_writers) self->callbacks_.on_command_writers(alive);
+      [self](const dds::LivelinessChange& change) {
+        if (self->callbacks_.on_command_writers) {
+          self->callbacks_.on_command_writers(change.alive_count);
+        }
       });
   node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
       p, topics::kEmergencyStop, Stream::kControl, [self](const dds::wire::EmergencyStop& s) {
