@@ -35,7 +35,6 @@ int Run(int argc, char** argv) {
   int domain = -1;
   std::string dds_profile = "loopback";
   ClientFlags flags;
-  int strength = 10;
   std::string config_path;
   int max_frames = 0;
   double duration_s = 0;
@@ -52,10 +51,10 @@ int Run(int argc, char** argv) {
   app.add_option("--id", flags.client_id, "this client's id (shown in the lease)");
   app.add_option("--role", flags.role, "pilot | observer")
       ->check(CLI::IsMember({"pilot", "observer"}));
-  app.add_option("--strength", strength,
-                 "DDS ownership strength of the command writer; use the strength the robot's "
-                 "role table gives this id")
-      ->check(CLI::Range(1, 1000));
+  int ignored_strength = 0;
+  app.add_option("--strength", ignored_strength,
+                 "ignored (accepted for old scripts): the robot's role table gives strengths and "
+                 "cmd_vel ownership is shared");
   app.add_option("--display", flags.display,
                  "mono-left | mono-right | anaglyph | anaglyph-color | sbs | sbs-half | "
                  "top-bottom | interlaced | quad-buffer");
@@ -181,7 +180,6 @@ int Run(int argc, char** argv) {
   OperatorNode::Options node_options;
   node_options.client_id = client_id;
   node_options.pilot = console_options.pilot;
-  node_options.command_strength = strength;
   auto node = OperatorNode::Create(participant.get(), node_options, callbacks, &error);
   if (!node) {
     std::cerr << "operator_client: " << error << "\n";
@@ -191,7 +189,6 @@ int Run(int argc, char** argv) {
   ui::CommandSenderOptions sender_options;
   sender_options.client_id = client_id;
   sender_options.pilot = console_options.pilot;
-  sender_options.strength = strength;
   ui::CommandSinks sinks;
   sinks.command = [&](const VelocityCommand& c) { return node->SendCommand(c); };
   sinks.ping = [&](const ClockProbe& p) {

@@ -70,15 +70,16 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
  public:
   using Data = typename PubSubType::type;
 
+  // The int32_t that callers may still pass (the former command ownership strength) is
+  // ignored: command ownership is shared (qos.h).
   Writer(Participant& participant, const std::string& topic_name, Stream stream,
-         int32_t ownership_strength = 0)
+         int32_t /*ignored*/ = 0)
       : participant_(participant) {
     auto* topic = participant.GetTopic(
         topic_name, eprosima::fastdds::dds::TypeSupport(new PubSubType()), &error_);
     if (topic == nullptr) return;
     writer_ = participant.publisher()->create_datawriter(
-        topic, WriterQos(stream, ownership_strength), this,
-        eprosima::fastdds::dds::StatusMask::publication_matched());
+        topic, WriterQos(stream), this, eprosima::fastdds::dds::StatusMask::publication_matched());
     if (writer_ == nullptr) error_ = "cannot create a DDS writer on " + topic_name;
   }
   ~Writer() override {

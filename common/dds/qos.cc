@@ -47,7 +47,7 @@ Common CommonOf(Stream stream) {
 
 }  // namespace
 
-fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
+fdds::DataWriterQos WriterQos(Stream stream) {
   fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
   const Common c = CommonOf(stream);
   qos.reliability().kind = c.reliability;
@@ -65,8 +65,7 @@ fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
   // keep-last 1 a newer sample replaces one not yet sent.
   qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
   if (stream == Stream::kCommand) {
-    qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
-    qos.ownership_strength().value = static_cast<uint32_t>(ownership_strength);
+    qos.ownership().kind = fdds::SHARED_OWNERSHIP_QOS;
     qos.deadline().period = Duration_t(kCommandDeadlineSeconds);
     qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
     qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);
@@ -80,7 +79,7 @@ fdds::DataReaderQos ReaderQos(Stream stream) {
   const Common c = CommonOf(stream);
   qos.reliability().kind = c.reliability;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  const int32_t depth = c.depth;
+  const int32_t depth = stream == Stream::kCommand ? kCommandReaderDepth : c.depth;
   qos.history().depth = depth;
   qos.durability().kind = c.durability;
   // Bounded: keyless topics have one instance; keep-last holds at most `depth` samples of it.
@@ -98,7 +97,7 @@ fdds::DataReaderQos ReaderQos(Stream stream) {
           ? eprosima::fastrtps::rtps::PREALLOCATED_MEMORY_MODE
           : eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   if (stream == Stream::kCommand) {
-    qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    qos.ownership().kind = fdds::SHARED_OWNERSHIP_QOS;
     qos.deadline().period = Duration_t(kCommandDeadlineSeconds);
     qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
     qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);

@@ -4,8 +4,10 @@
 //   while the previous one is unacknowledged (ack-clock), so video never offers more than the
 //   link carries; best-effort readers (ROS tools) match too.
 // - kSensor: best effort, keep last 5, volatile: scans, odometry (ROS SensorDataQoS-compatible).
-// - kCommand: reliable, keep last 1, volatile, exclusive ownership (strength = the writer's),
-//   deadline 200 ms, manual-by-topic liveliness 500 ms.
+// - kCommand: reliable, keep last 1 (readers 8), volatile, shared ownership, deadline 200 ms,
+//   manual-by-topic liveliness 500 ms. Ownership is shared: the robot hears every pilot and
+//   keeps the lease holder's commands (SafetyGovernor), so no writer strength a client picks
+//   decides who drives.
 // - kState: reliable, keep last 1, transient local: lease, health, camera info (late joiners
 //   get the latest).
 // - kControl: reliable, keep last 10, volatile: control requests, e-stop, clock probes.
@@ -27,14 +29,15 @@ enum class Stream { kVideo, kSensor, kCommand, kState, kControl };
 
 const char* StreamName(Stream stream);
 
-// `ownership_strength` is used for kCommand writers only (exclusive ownership).
-eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength = 0);
+eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream);
 eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 
 // Deadline of the command stream: a pilot that sends nothing for this long is considered gone.
 constexpr double kCommandDeadlineSeconds = 0.2;
 // Liveliness lease of the command stream (MANUAL_BY_TOPIC: each write asserts it).
 constexpr double kCommandLivelinessSeconds = 0.5;
+// History depth of command readers: several pilots write the one (keyless) instance.
+constexpr int32_t kCommandReaderDepth = 8;
 // Reader sample limit beyond the depth: room for samples a reliable reader knows are missing.
 constexpr int32_t kMissingSampleAllowance = 32;
 

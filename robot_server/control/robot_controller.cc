@@ -98,6 +98,14 @@ void RobotController::OnControlRequest(const ControlRequest& request) {
                    << "; holder now '" << lease_.holder() << "'";
 }
 
+void RobotController::OnCommandStreamLost(const std::string& client_id) {
+  if (!lease_.OnLivelinessLost(client_id)) return;  // not the holder
+  governor_.OnLinkLost(client_id);
+  governor_.SetLeaseHolder(lease_.holder());
+  lease_changed_ = true;
+  MOSTAR_LOG(WARNING) << "pilot '" << client_id << "' lost its command stream: lease released";
+}
+
 void RobotController::OnScan(const LaserScan& scan) {
   governor_.SetLaserScan(scan);
   link_->PublishScan(scan);
