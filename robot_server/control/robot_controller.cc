@@ -82,8 +82,7 @@ void RobotController::OnCommand(const VelocityCommand& command) {
 
 void RobotController::OnEmergencyStop(const EmergencyStop& stop) {
   const bool authorised =
-      stop.engage ? lease_.MayEngageEstop(stop.sender_id)
-                  : lease_.MayReleaseEstop(stop.sender_id, governor_.status().estop_engaged_by);
+      stop.engage ? lease_.MayEngageEstop(stop.sender_id) : lease_.MayReleaseEstop(stop.sender_id);
   governor_.HandleEmergencyStop(stop, authorised);
   MOSTAR_LOG(WARNING) << "emergency stop " << (stop.engage ? "engage" : "release") << " from "
                       << stop.sender_id << (authorised ? "" : " refused (not authorised)");

@@ -320,6 +320,28 @@ TEST_F(RobotControllerTest, EmergencyStopFromAStrangerIsRefusedFromAnObserverEng
   EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0) << "e-stop: zero at once, no ramp";
 }
 
+// Observers may engage the e-stop, never release it; only the lease holder releases it.
+TEST_F(RobotControllerTest, OnlyTheLeaseHolderReleasesTheEstop) {
+  Make();
+  AliceDrives(50);
+  EmergencyStop stop;
+  stop.sender_id = "olga";
+  controller_->OnEmergencyStop(stop);
+  ASSERT_TRUE(controller_->governor().status().estop_engaged);
+  stop.engage = false;
+  for (const char* id : {"olga", "bob", "mallory"}) {
+    stop.sender_id = id;
+    controller_->OnEmergencyStop(stop);
+    EXPECT_TRUE(controller_->governor().status().estop_engaged) << id << " released it";
+  }
+  EXPECT_EQ(controller_->governor().status().counters.estop_refused, 3u);
+  Run(5, [this] { Command("alice", 0.3, true); });
+  EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0);
+  stop.sender_id = "alice";
+  controller_->OnEmergencyStop(stop);
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+}
+
 // DDS liveliness of the holder's command writer (RobotNode::Callbacks::on_command_stream_lost).
 TEST_F(RobotControllerTest, TheHoldersLostCommandStreamFreesTheLeaseAtOnce) {
   Make();
