@@ -48,7 +48,10 @@ int Run(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
       ->check(CLI::Range(0, 232));
   app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
-  app.add_option("--id", flags.client_id, "this client's id (shown in the lease)");
+  auto* id_option = app.add_option(
+      "--id", flags.client_id,
+      "this client's id (shown in the lease); with DDS Security the CN of its certificate, "
+      "which is also the default");
   app.add_option("--role", flags.role, "pilot | observer")
       ->check(CLI::IsMember({"pilot", "observer"}));
   int ignored_strength = 0;
@@ -130,6 +133,24 @@ int Run(int argc, char** argv) {
   if (!participant) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
+  }
+  if (participant->secure()) {
+    // The robot drops every sample whose sender_id is not our certificate's CN.
+    const std::string& cn = participant->own_client_id();
+    if (cn.empty()) {
+      std::cerr << "operator_client: the certificate of " << dds_profile
+                << " has no CN that is a client id\n";
+      return 2;
+    }
+    if (id_option->count() == 0) {
+      flags.client_id = cn;
+      console_options.client_id = cn;
+    } else if (flags.client_id != cn) {
+      std::cerr << "operator_client: --id " << flags.client_id << " is not the CN of this "
+                << "client's certificate (" << cn
+                << "): the robot would drop everything it sends\n";
+      return 2;
+    }
   }
 
   const Clock* clock = &SystemClock::Instance();
