@@ -7,8 +7,8 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git clang-format
-  # DDS: runtime, generator (brings a JRE), tools
-  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  # DDS: runtime, generator (brings a JRE), tools; OpenSSL for DDS Security certificates
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   # sensors, maths, vision, config
   libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev
   # service manager readiness and watchdog (sd_notify)

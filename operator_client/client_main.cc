@@ -35,7 +35,6 @@ int Run(int argc, char** argv) {
   int domain = -1;
   std::string dds_profile = "loopback";
   ClientFlags flags;
-  int strength = 10;
   std::string config_path;
   int max_frames = 0;
   double duration_s = 0;
@@ -49,13 +48,16 @@ int Run(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
       ->check(CLI::Range(0, 232));
   app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
-  app.add_option("--id", flags.client_id, "this client's id (shown in the lease)");
+  auto* id_option = app.add_option(
+      "--id", flags.client_id,
+      "this client's id (shown in the lease); with DDS Security the CN of its certificate, "
+      "which is also the default");
   app.add_option("--role", flags.role, "pilot | observer")
       ->check(CLI::IsMember({"pilot", "observer"}));
-  app.add_option("--strength", strength,
-                 "DDS ownership strength of the command writer; use the strength the robot's "
-                 "role table gives this id")
-      ->check(CLI::Range(1, 1000));
+  int ignored_strength = 0;
+  app.add_option("--strength", ignored_strength,
+                 "ignored (accepted for old scripts): the robot's role table gives strengths and "
+                 "cmd_vel ownership is shared");
   app.add_option("--display", flags.display,
                  "mono-left | mono-right | anaglyph | anaglyph-color | sbs | sbs-half | "
                  "top-bottom | interlaced | quad-buffer");
@@ -132,6 +134,24 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
+  if (participant->secure()) {
+    // The robot drops every sample whose sender_id is not our certificate's CN.
+    const std::string& cn = participant->own_client_id();
+    if (cn.empty()) {
+      std::cerr << "operator_client: the certificate of " << dds_profile
+                << " has no CN that is a client id\n";
+      return 2;
+    }
+    if (id_option->count() == 0) {
+      flags.client_id = cn;
+      console_options.client_id = cn;
+    } else if (flags.client_id != cn) {
+      std::cerr << "operator_client: --id " << flags.client_id << " is not the CN of this "
+                << "client's certificate (" << cn
+                << "): the robot would drop everything it sends\n";
+      return 2;
+    }
+  }
 
   const Clock* clock = &SystemClock::Instance();
   std::unique_ptr<record::RecordingWriter> recorder;
@@ -187,7 +207,6 @@ int Run(int argc, char** argv) {
   OperatorNode::Options node_options;
   node_options.client_id = client_id;
   node_options.pilot = console_options.pilot;
-  node_options.command_strength = strength;
   auto node = OperatorNode::Create(participant.get(), node_options, callbacks, &error);
   if (!node) {
     std::cerr << "operator_client: " << error << "\n";
@@ -197,7 +216,6 @@ int Run(int argc, char** argv) {
   ui::CommandSenderOptions sender_options;
   sender_options.client_id = client_id;
   sender_options.pilot = console_options.pilot;
-  sender_options.strength = strength;
   ui::CommandSinks sinks;
   sinks.command = [&](const VelocityCommand& c) { return node->SendCommand(c); };
   sinks.ping = [&](const ClockProbe& p) {

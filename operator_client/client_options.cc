@@ -1,6 +1,7 @@
 #include "operator_client/client_options.h"
 
 #include "common/config/config_paths.h"
+#include "common/identity/client_id.h"
 #include "common/math/calibration_io.h"
 #include "operator_client/render/display_mode.h"
 
@@ -48,6 +49,11 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
 
 bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
                       ui::ConsoleOptions* options, std::string* error) {
+  std::string why;
+  if (!identity::IsValidClientId(flags.client_id, &why)) {
+    *error = "--id '" + flags.client_id + "': " + why;
+    return false;
+  }
   options->client_id = flags.client_id;
   options->pilot = flags.role == "pilot";
   options->headless = flags.headless;

@@ -11,10 +11,10 @@ namespace mostar::client {
 
 // The flags that change the console (the rest are wiring: domain, profile, trace, ...).
 struct ClientFlags {
-  std::string client_id = "operator";
-  std::string role = "pilot";    // "pilot" or "observer"
-  std::string display;           // empty: the configuration's display_mode, else mono-left
-  std::string calibration_path;  // --calibration: loaded and saved here; overrides the file's
+  std::string client_id = "operator";  // a valid client id; with DDS Security its cert's CN
+  std::string role = "pilot";          // "pilot" or "observer"
+  std::string display;                 // empty: the configuration's display_mode, else mono-left
+  std::string calibration_path;        // --calibration: loaded and saved here; overrides the file's
   bool headless = false;
   bool calibration_panel = false;
   bool no_hud = false;

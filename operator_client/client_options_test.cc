@@ -91,6 +91,10 @@ TEST(ClientOptionsTest, BadFlagsAreRefusedWithTheValue) {
   flags.calibration_path = "/nonexistent/calibration.pbtxt";
   EXPECT_FALSE(ApplyClientFlags(flags, ClientConfig{}, &options, &error));
   EXPECT_EQ(error.rfind("--calibration: ", 0), 0u) << error;
+  flags.calibration_path = "";
+  flags.client_id = "pilot one";  // ids are certificate CNs: no spaces
+  EXPECT_FALSE(ApplyClientFlags(flags, ClientConfig{}, &options, &error));
+  EXPECT_EQ(error.rfind("--id 'pilot one': ", 0), 0u) << error;
 }
 
 }  // namespace

@@ -143,6 +143,11 @@ int Run(int argc, char** argv) {
   callbacks.on_control_request = [&](const ControlRequest& r) {
     if (RobotController* controller = controller_ptr.load()) controller->OnControlRequest(r);
   };
+  callbacks.on_command_stream_lost = [&](const std::string& client_id) {
+    if (RobotController* controller = controller_ptr.load()) {
+      controller->OnCommandStreamLost(client_id);
+    }
+  };
   RobotNode::VideoOptions video;
   video.window_pairs = config.dds().video_window_pairs();
   video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());

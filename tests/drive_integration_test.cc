@@ -51,7 +51,7 @@ class DriveIntegrationTest : public ::testing::Test {
   }
 
   void StartClient(Subprocess* client, const std::string& id, const std::string& role,
-                   double duration_s, const std::string& drive, int strength = 10) {
+                   double duration_s, const std::string& drive) {
     std::vector<std::string> argv = {Bin("operator_client/operator_client"),
                                      "--headless",
                                      "--domain",
@@ -60,8 +60,6 @@ class DriveIntegrationTest : public ::testing::Test {
                                      id,
                                      "--role",
                                      role,
-                                     "--strength",
-                                     std::to_string(strength),
                                      "--duration",
                                      std::to_string(duration_s)};
     if (!drive.empty()) {
@@ -156,10 +154,10 @@ TEST_F(DriveIntegrationTest, LeaseGoesToTheStrongerPilotAndBackNeverToTheObserve
       << "the observer's request never reached the robot: " << server_log;
   EXPECT_NE(server_log.find(observer_asked + "refused: observer; holder now ''"), std::string::npos)
       << server_log;
-  StartClient(&weak, "operator", "pilot", 22, "", 10);  // strength 10 in server_sim.pbtxt
+  StartClient(&weak, "operator", "pilot", 22, "");  // strength 10 in server_sim.pbtxt
   std::this_thread::sleep_for(std::chrono::seconds(5));
-  // Strength 20 (as in the role table): takes over, then leaves.
-  StartClient(&strong, "operator-2", "pilot", 8, "", 20);
+  // Strength 20 in the role table: takes over, then leaves.
+  StartClient(&strong, "operator-2", "pilot", 8, "");
   ASSERT_TRUE(strong.Wait(std::chrono::seconds(60)).has_value());
   ASSERT_TRUE(weak.Wait(std::chrono::seconds(60)).has_value());
   ASSERT_TRUE(observer.Wait(std::chrono::seconds(60)).has_value());

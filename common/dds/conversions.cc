@@ -151,7 +151,7 @@ VelocityCommand FromIdl(const wire::VelocityCommand& cmd) {
   VelocityCommand out;
   out.stamp = FromIdl(cmd.stamp());
   out.sequence = cmd.sequence_number();
-  out.sender_id = cmd.sender_id();
+  out.sender_id = cmd.sender_id().to_string();
   out.linear_mps = cmd.linear_mps();
   out.angular_radps = cmd.angular_radps();
   out.enable = cmd.enable();
@@ -169,7 +169,7 @@ wire::EmergencyStop ToIdl(const EmergencyStop& stop) {
 EmergencyStop FromIdl(const wire::EmergencyStop& stop) {
   EmergencyStop out;
   out.stamp = FromIdl(stop.stamp());
-  out.sender_id = stop.sender_id();
+  out.sender_id = stop.sender_id().to_string();
   out.engage = stop.engage();
   return out;
 }
@@ -186,7 +186,7 @@ wire::ControlRequest ToIdl(const ControlRequest& request) {
 ControlRequest FromIdl(const wire::ControlRequest& request) {
   ControlRequest out;
   out.stamp = FromIdl(request.stamp());
-  out.sender_id = request.sender_id();
+  out.sender_id = request.sender_id().to_string();
   out.strength = request.strength();
   out.take = request.take();
   return out;
@@ -205,7 +205,7 @@ wire::ControlLease ToIdl(const ControlLease& lease) {
 ControlLease FromIdl(const wire::ControlLease& lease) {
   ControlLease out;
   out.stamp = FromIdl(lease.stamp());
-  out.holder_id = lease.holder_id();
+  out.holder_id = lease.holder_id().to_string();
   out.holder_strength = lease.holder_strength();
   out.since = FromIdl(lease.since());
   out.lease_sequence = lease.lease_sequence();
@@ -217,12 +217,14 @@ wire::RobotHealth ToIdl(const RobotHealth& health) {
   out.stamp(ToIdl(health.stamp));
   out.robot_id(health.robot_id);
   for (const DeviceHealth& d : health.devices) {
+    if (out.devices().size() >= kMaxHealthDevices) break;
     mostar_msgs::msg::dds_::DeviceHealth_ w;
     w.name(d.name);
     w.state(static_cast<uint8_t>(d.state));
     w.message(d.message);
     w.rate_hz(d.rate_hz);
     for (const auto& [name, value] : d.counters) {
+      if (w.counters().size() >= kMaxHealthCounters) break;
       mostar_msgs::msg::dds_::Counter_ c;
       c.name(name);
       c.value(value);
@@ -241,17 +243,17 @@ wire::RobotHealth ToIdl(const RobotHealth& health) {
 RobotHealth FromIdl(const wire::RobotHealth& health) {
   RobotHealth out;
   out.stamp = FromIdl(health.stamp());
-  out.robot_id = health.robot_id();
+  out.robot_id = health.robot_id().to_string();
   for (const auto& w : health.devices()) {
     DeviceHealth d;
-    d.name = w.name();
+    d.name = w.name().to_string();
     d.state = w.state() <= 3 ? static_cast<DeviceState>(w.state()) : DeviceState::kError;
-    d.message = w.message();
+    d.message = w.message().to_string();
     d.rate_hz = w.rate_hz();
-    for (const auto& c : w.counters()) d.counters.emplace_back(c.name(), c.value());
+    for (const auto& c : w.counters()) d.counters.emplace_back(c.name().to_string(), c.value());
     out.devices.push_back(std::move(d));
   }
-  out.lease_holder = health.lease_holder();
+  out.lease_holder = health.lease_holder().to_string();
   out.watchdog_state = health.watchdog_state() <= 4
                            ? static_cast<WatchdogState>(health.watchdog_state())
                            : WatchdogState::kEstop;
@@ -274,7 +276,7 @@ wire::ClockProbe ToIdl(const ClockProbe& probe) {
 
 ClockProbe FromIdl(const wire::ClockProbe& probe) {
   ClockProbe out;
-  out.sender_id = probe.sender_id();
+  out.sender_id = probe.sender_id().to_string();
   out.sequence = probe.sequence_number();
   out.t0 = FromIdl(probe.t0());
   out.t1 = FromIdl(probe.t1());

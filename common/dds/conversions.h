@@ -1,5 +1,10 @@
 // Conversions between mostar's plain types (common/types/) and the DDS wire types (idl/).
 // The only place where both meet. Each pair has a round-trip test.
+//
+// mostar_msgs strings and sequences are bounded (idl/mostar_msgs.idl): ToIdl cuts longer
+// strings at their bound (and at an embedded NUL), and keeps the first kMaxHealthDevices
+// devices and the first kMaxHealthCounters counters of each; ids longer than 64 bytes are
+// never valid client ids (common/identity/client_id.h), so a cut id is refused by the robot.
 #pragma once
 
 #include "common/time/time.h"
@@ -26,6 +31,10 @@ using ControlLease = mostar_msgs::msg::dds_::ControlLease_;
 using RobotHealth = mostar_msgs::msg::dds_::RobotHealth_;
 using ClockProbe = mostar_msgs::msg::dds_::ClockProbe_;
 }  // namespace wire
+
+// Bounds of RobotHealth_ (idl/mostar_msgs.idl).
+inline constexpr size_t kMaxHealthDevices = 16;
+inline constexpr size_t kMaxHealthCounters = 64;
 
 // Frame ids used in headers.
 inline constexpr const char* kLaserFrame = "laser";

@@ -217,6 +217,49 @@ TEST(ConversionsTest, ClockProbeRoundTrip) {
   EXPECT_EQ(back.t3, probe.t3);
 }
 
+// Bounded strings and sequences (idl/mostar_msgs.idl): longer values are cut, never sent
+// beyond their bound.
+TEST(ConversionsTest, StringsAndSequencesAreCutAtTheirBounds) {
+  VelocityCommand cmd;
+  cmd.sender_id = std::string(100, 'a');
+  const VelocityCommand cut =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>(ToIdl(cmd)));
+  EXPECT_EQ(cut.sender_id, std::string(64, 'a'));
+  ClockProbe probe;
+  probe.sender_id = std::string("alice\0mallory", 13);
+  EXPECT_EQ(FromIdl(ToIdl(probe)).sender_id, "alice");  // never a longer id than written
+
+  RobotHealth health;
+  health.robot_id = std::string(80, 'r');
+  for (int d = 0; d < 20; ++d) {
+    DeviceHealth device;
+    device.name = "device" + std::to_string(d);
+    device.message = std::string(300, 'm');
+    for (int c = 0; c < 70; ++c) device.counters.emplace_back("c" + std::to_string(c), c);
+    health.devices.push_back(device);
+  }
+  const RobotHealth back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::RobotHealth_PubSubType>(ToIdl(health)));
+  EXPECT_EQ(back.robot_id.size(), 64u);
+  ASSERT_EQ(back.devices.size(), kMaxHealthDevices);
+  EXPECT_EQ(back.devices[15].name, "device15");
+  EXPECT_EQ(back.devices[0].message.size(), 256u);
+  ASSERT_EQ(back.devices[0].counters.size(), kMaxHealthCounters);
+  EXPECT_EQ(back.devices[0].counters.back().first, "c63");
+}
+
+// The robot's readers of these types use preallocated samples of the type's maximum size
+// (common/dds/qos.cc), which refuses anything bigger: the maximum must be small.
+TEST(ConversionsTest, CommandTypesHaveASmallMaximumSize) {
+  EXPECT_LE(mostar_msgs::msg::dds_::VelocityCommand_PubSubType().m_typeSize, 200u);
+  EXPECT_LE(mostar_msgs::msg::dds_::EmergencyStop_PubSubType().m_typeSize, 200u);
+  EXPECT_LE(mostar_msgs::msg::dds_::ControlRequest_PubSubType().m_typeSize, 200u);
+  EXPECT_LE(mostar_msgs::msg::dds_::ClockProbe_PubSubType().m_typeSize, 200u);
+  EXPECT_LE(mostar_msgs::msg::dds_::ControlLease_PubSubType().m_typeSize, 200u);
+  // Health: 16 devices of 64 counters each.
+  EXPECT_LE(mostar_msgs::msg::dds_::RobotHealth_PubSubType().m_typeSize, 16u * 64u * 96u);
+}
+
 TEST(ConversionsTest, RosTypeNamesAreExact) {
   EXPECT_EQ(std::string(sensor_msgs::msg::dds_::LaserScan_PubSubType().getName()),
             "sensor_msgs::msg::dds_::LaserScan_");

@@ -5,13 +5,17 @@
 //   Reader<...> r(participant, topics::kScan, Stream::kSensor,
 //                 [](const LaserScan_& scan) { ... });   // called on a DDS thread
 //   std::optional<LaserScan_> latest = r.Latest();         // or latest-value access
+//   Reader<...> c(participant, topics::kCommand, Stream::kCommand, kWithWriter,
+//                 [](const VelocityCommand_& c, const WriterId& from) { ... });
 //
 // `PubSubType` is a fastddsgen-generated `XxxPubSubType`; its `type` is the data class.
 // Construction failures are reported by ok()/error(), never by exceptions. Destruction deletes
 // the DDS entity; callbacks have stopped when the destructor returns.
 #pragma once
 
+#include <array>
 #include <atomic>
+#include <cstring>
 #include <fastdds/dds/core/status/LivelinessChangedStatus.hpp>
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
 #include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
@@ -27,8 +31,30 @@
 
 #include "common/dds/participant.h"
 #include "common/dds/qos.h"
+#include "common/dds/writer_id.h"
 
 namespace mostar::dds {
+
+// The writer behind a SampleInfo::publication_handle or a LivelinessChangedStatus.
+inline WriterId WriterIdFromHandle(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
+  const eprosima::fastrtps::rtps::GUID_t guid = eprosima::fastrtps::rtps::iHandle2GUID(handle);
+  WriterId id;
+  std::memcpy(id.participant.data(), guid.guidPrefix.value, id.participant.size());
+  std::memcpy(id.entity.data(), guid.entityId.value, id.entity.size());
+  return id;
+}
+
+// A change of the liveliness of the writers a reader matched (LIVELINESS_CHANGED).
+struct LivelinessChange {
+  WriterId writer;             // the writer whose liveliness changed
+  int alive_count = 0;         // writers alive now
+  int alive_count_change = 0;  // < 0: `writer` stopped being alive (lost or gone)
+  int not_alive_count_change = 0;
+};
+
+// Tag of the Reader constructor whose callback also gets the writer of each sample.
+struct WithWriter {};
+inline constexpr WithWriter kWithWriter{};
 
 // Counts matched remote endpoints; shared by writers and readers.
 class MatchCounter {
@@ -44,9 +70,11 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
  public:
   using Data = typename PubSubType::type;
 
+  // The int32_t that callers may still pass (the former command ownership strength) is
+  // ignored: command ownership is shared (qos.h).
   Writer(Participant& participant, const std::string& topic_name, Stream stream,
-         int32_t ownership_strength = 0)
-      : Writer(participant, topic_name, WriterQos(stream, ownership_strength)) {}
+         int32_t /*ignored*/ = 0)
+      : Writer(participant, topic_name, WriterQos(stream)) {}
   // With QoS made by the caller (e.g. VideoWriterQos).
   Writer(Participant& participant, const std::string& topic_name,
          const eprosima::fastdds::dds::DataWriterQos& qos)
@@ -107,11 +135,21 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
  public:
   using Data = typename PubSubType::type;
   using Callback = std::function<void(const Data&)>;
-  // Called with the number of writers still alive when liveliness changes (command stream).
-  using LivelinessCallback = std::function<void(int alive_count)>;
+  using WriterCallback = std::function<void(const Data&, const WriterId&)>;
+  // Called when the liveliness of a matched writer changes (command stream).
+  using LivelinessCallback = std::function<void(const LivelinessChange&)>;
 
   Reader(Participant& participant, const std::string& topic_name, Stream stream,
          Callback callback = {}, LivelinessCallback on_liveliness = {})
+      : Reader(participant, topic_name, stream, kWithWriter,
+               callback ? WriterCallback([callback = std::move(callback)](
+                                             const Data& data, const WriterId&) { callback(data); })
+                        : WriterCallback(),
+               std::move(on_liveliness)) {}
+
+  // `callback` also gets the writer of each sample (SampleInfo::publication_handle).
+  Reader(Participant& participant, const std::string& topic_name, Stream stream, WithWriter,
+         WriterCallback callback, LivelinessCallback on_liveliness = {})
       : participant_(participant),
         callback_(std::move(callback)),
         on_liveliness_(std::move(on_liveliness)) {
@@ -154,7 +192,7 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
         std::lock_guard<std::mutex> lock(mutex_);
         latest_ = data;
       }
-      if (callback_) callback_(data);
+      if (callback_) callback_(data, WriterIdFromHandle(info.publication_handle));
     }
   }
   void on_subscription_matched(
@@ -164,12 +202,18 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
   }
   void on_liveliness_changed(eprosima::fastdds::dds::DataReader*,
                              const eprosima::fastdds::dds::LivelinessChangedStatus& s) override {
-    if (on_liveliness_) on_liveliness_(s.alive_count);
+    if (!on_liveliness_) return;
+    LivelinessChange change;
+    change.writer = WriterIdFromHandle(s.last_publication_handle);
+    change.alive_count = s.alive_count;
+    change.alive_count_change = s.alive_count_change;
+    change.not_alive_count_change = s.not_alive_count_change;
+    on_liveliness_(change);
   }
 
  private:
   Participant& participant_;
-  Callback callback_;
+  WriterCallback callback_;
   LivelinessCallback on_liveliness_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   std::string error_;

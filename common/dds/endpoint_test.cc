@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
+#include <set>
 #include <thread>
 
 #include "common/dds/conversions.h"
@@ -175,34 +177,83 @@ TEST(EndpointTest, StateStreamReachesLateJoiner) {
   EXPECT_EQ(late.Latest()->lease_sequence(), 3u);
 }
 
-TEST(EndpointTest, StrongerCommandWriterOwnsTheTopic) {
+identity::GuidPrefix PrefixOf(const Participant& p) {
+  identity::GuidPrefix prefix;
+  const auto guid = p.get()->guid();
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), prefix.begin());
+  return prefix;
+}
+
+// Command ownership is shared: the robot hears every pilot (the lease decides who drives), and
+// each sample comes with the participant that wrote it.
+TEST(EndpointTest, EveryCommandWriterIsHeardWithItsParticipant) {
   auto robot = MakeParticipant("robot");
   auto pilot_a = MakeParticipant("pilot-a");
   auto pilot_b = MakeParticipant("pilot-b");
   ASSERT_TRUE(robot && pilot_a && pilot_b);
   std::mutex mutex;
-  std::vector<std::string> senders;
-  Reader<CommandType> reader(*robot, "rt/test/cmd", Stream::kCommand,
-                             [&](const wire::VelocityCommand& c) {
+  std::map<std::string, std::set<identity::GuidPrefix>> writers_of;
+  Reader<CommandType> reader(*robot, "rt/test/cmd", Stream::kCommand, kWithWriter,
+                             [&](const wire::VelocityCommand& c, const WriterId& from) {
                                std::lock_guard<std::mutex> lock(mutex);
-                               senders.push_back(c.sender_id());
+                               writers_of[c.sender_id().to_string()].insert(from.participant);
                              });
-  Writer<CommandType> weak(*pilot_a, "rt/test/cmd", Stream::kCommand, 10);
-  Writer<CommandType> strong(*pilot_b, "rt/test/cmd", Stream::kCommand, 20);
+  Writer<CommandType> writer_a(*pilot_a, "rt/test/cmd", Stream::kCommand);
+  auto writer_b = std::make_unique<Writer<CommandType>>(*pilot_b, "rt/test/cmd", Stream::kCommand);
   ASSERT_TRUE(WaitFor([&] { return reader.matched() == 2; }, std::chrono::seconds(10)));
   VelocityCommand a{FromUnixNanos(1), 0, "pilot-a", 0.1, 0, true};
   VelocityCommand b{FromUnixNanos(1), 0, "pilot-b", 0.2, 0, true};
-  for (int i = 0; i < 30; ++i) {
+  for (int i = 0; i < 20; ++i) {
     a.sequence = b.sequence = static_cast<uint64_t>(i);
-    weak.Write(ToIdl(a));
-    strong.Write(ToIdl(b));
+    writer_a.Write(ToIdl(a));
+    writer_b->Write(ToIdl(b));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ASSERT_TRUE(WaitFor([&] { return reader.received() >= 10; }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return writers_of.size() == 2;
+      },
+      std::chrono::seconds(5)));
   std::lock_guard<std::mutex> lock(mutex);
-  // After ownership settles, only the stronger writer gets through.
-  ASSERT_GE(senders.size(), 10u);
-  for (size_t i = senders.size() - 5; i < senders.size(); ++i) EXPECT_EQ(senders[i], "pilot-b");
+  EXPECT_EQ(writers_of["pilot-a"], std::set<identity::GuidPrefix>{PrefixOf(*pilot_a)});
+  EXPECT_EQ(writers_of["pilot-b"], std::set<identity::GuidPrefix>{PrefixOf(*pilot_b)});
+}
+
+// A command writer that goes away is reported with its identity (liveliness of the holder).
+TEST(EndpointTest, ReportsWhichCommandWriterLostItsLiveliness) {
+  auto robot = MakeParticipant("robot");
+  auto pilot = MakeParticipant("pilot");
+  ASSERT_TRUE(robot && pilot);
+  std::mutex mutex;
+  std::vector<LivelinessChange> changes;
+  Reader<CommandType> reader(*robot, "rt/test/cmd_live", Stream::kCommand, {},
+                             [&](const LivelinessChange& change) {
+                               std::lock_guard<std::mutex> lock(mutex);
+                               changes.push_back(change);
+                             });
+  auto writer = std::make_unique<Writer<CommandType>>(*pilot, "rt/test/cmd_live", Stream::kCommand);
+  ASSERT_TRUE(WaitFor([&] { return reader.matched() == 1 && writer->matched() == 1; },
+                      std::chrono::seconds(10)));
+  VelocityCommand c{FromUnixNanos(1), 1, "pilot", 0, 0, false};
+  for (int i = 0; i < 5; ++i) {  // manual-by-topic liveliness: each write asserts it
+    ASSERT_TRUE(writer->Write(ToIdl(c)));
+    ++c.sequence;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  auto lost = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (const LivelinessChange& ch : changes) {
+      if (ch.alive_count_change < 0) return true;
+    }
+    return false;
+  };
+  // Silent for longer than the liveliness lease: lost.
+  ASSERT_TRUE(WaitFor(lost, std::chrono::seconds(5)));
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_FALSE(changes.empty());
+  EXPECT_GT(changes.front().alive_count_change, 0);  // alive at its first write
+  for (const LivelinessChange& ch : changes) EXPECT_EQ(ch.writer.participant, PrefixOf(*pilot));
 }
 
 }  // namespace

@@ -16,6 +16,9 @@
 #include <cstring>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
+#include "common/identity/certificate.h"
+#include "common/identity/certificate_subject.h"
+#include "common/identity/peer_certificate.h"
 #include "common/log/log.h"
 
 namespace mostar::dds {
@@ -137,12 +140,14 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
   }
   if (!TcpListeningPortsFree(qos, error)) return nullptr;
   std::unique_ptr<Participant> p(new Participant(options));
+  if (!p->SetUpSecurity(&qos, error)) return nullptr;
   for (const auto& transport : qos.transport().user_transports) {
     if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPTransportDescriptor>(transport)) {
       p->uses_tcp_ = true;
     }
   }
-  p->participant_ = factory->create_participant(options.domain_id, qos);
+  p->participant_ = factory->create_participant(options.domain_id, qos, p->identities_.get(),
+                                                fdds::StatusMask::none());
   if (p->participant_ == nullptr) {
     *error = "cannot create the DDS participant (domain " + std::to_string(options.domain_id) +
              ", profile " + options.profile + ")";
@@ -163,8 +168,54 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
   return p;
 }
 
+bool Participant::SetUpSecurity(fdds::DomainParticipantQos* qos, std::string* error) {
+  // Remote participants announcing more than this USER_DATA are ignored (a certificate is
+  // about 500 bytes).
+  if (qos->allocation().data_limits.max_user_data == 0) {
+    qos->allocation().data_limits.max_user_data = kMaxUserDataBytes;
+  }
+  SecuritySettings settings;
+  if (!SecuritySettingsFromProperties(qos->properties(), &settings, error)) return false;
+  if (!settings.authentication) return true;
+  std::vector<uint8_t> der;
+  if (!identity::ReadPemCertificate(settings.identity_certificate_path, &der, error)) return false;
+  std::unique_ptr<identity::IdentityCa> ca =
+      identity::IdentityCa::LoadFile(settings.identity_ca_path, error);
+  if (!ca) return false;
+  std::string why;
+  std::optional<identity::SubjectInfo> own = identity::SubjectOfCertificate(der, &why);
+  std::optional<identity::CertificateSubject> subject;
+  if (own) subject = identity::CertificateSubject::Parse(own->rfc2253, &why);
+  std::optional<std::string> client_id;
+  if (subject) client_id = subject->ClientId(&why);
+  if (client_id) {
+    own_client_id_ = *client_id;
+  } else {
+    MOSTAR_LOG(WARNING) << settings.identity_certificate_path
+                        << ": this certificate names no client id (" << why << ")";
+  }
+  qos->user_data().data_vec(identity::AnnouncedCertificateUserData(der));
+  identities_ = std::make_unique<PeerIdentityListener>(std::move(ca));
+  return true;
+}
+
+std::optional<std::string> Participant::AuthenticatedClientId(
+    const identity::GuidPrefix& prefix) const {
+  if (!identities_) return std::nullopt;
+  return identities_->ClientIdOf(prefix);
+}
+
+PeerIdentityCounters Participant::identity_counters() const {
+  return identities_ ? identities_->counters() : PeerIdentityCounters();
+}
+
 Participant::~Participant() {
   if (participant_ == nullptr) return;
+  if (identities_ &&
+      participant_->set_listener(nullptr, fdds::StatusMask::none(), std::chrono::seconds(2)) !=
+          ReturnCode_t::RETCODE_OK) {
+    (void)identities_.release();  // a callback may still use it: never freed
+  }
   participant_->delete_contained_entities();
   if (uses_tcp_) {
     ++g_abandoned_tcp_participants;  // see EndProcess

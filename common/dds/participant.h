@@ -7,6 +7,9 @@
 //   a path ending in ".xml": a Fast DDS XML profiles file; the participant profile named
 //       `xml_participant_profile` (default: the role, "robot" or "operator") is used.
 // The domain id comes from the options; see domain.h for the flag/environment convention.
+// With DDS Security (the profile's properties enable builtin.PKI-DH) the participant announces
+// its identity certificate in its USER_DATA and learns, for each authenticated remote
+// participant, the client id (certificate CN) it is (security.h): AuthenticatedClientId.
 // Teardown order is handled here: contained entities first, then the participant. A participant
 // with a TCP transport is not deleted (see EndProcess): programs end through EndProcess.
 #pragma once
@@ -19,9 +22,12 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
+#include "common/dds/security.h"
 #include "common/dds/tcp_user_timeout.h"
+#include "common/identity/guid_binding.h"
 
 namespace mostar::dds {
 
@@ -64,15 +70,32 @@ class Participant {
   // TCP sockets given TCP_USER_TIMEOUT so far (0 without a TCP transport).
   int tcp_sockets_guarded() const { return tcp_guard_ ? tcp_guard_->sockets_set() : 0; }
 
+  // DDS Security authentication (PKI-DH) is on: remote participants' client ids are known.
+  bool secure() const { return identities_ != nullptr; }
+  // The client id (certificate CN) of the authenticated remote participant with GUID prefix
+  // `prefix`; nullopt when not secure(), or when that participant is not authenticated or did
+  // not announce a certificate proving a client id. Thread-safe.
+  std::optional<std::string> AuthenticatedClientId(const identity::GuidPrefix& prefix) const;
+  // The CN of this participant's own certificate when secure() and it is a valid client id;
+  // empty otherwise.
+  const std::string& own_client_id() const { return own_client_id_; }
+  PeerIdentityCounters identity_counters() const;
+
  private:
   explicit Participant(ParticipantOptions options) : options_(std::move(options)) {}
+  // Reads the security settings of `qos`; when PKI-DH is on, puts this participant's
+  // certificate into its USER_DATA and makes the identity listener.
+  bool SetUpSecurity(eprosima::fastdds::dds::DomainParticipantQos* qos, std::string* error);
+  static constexpr size_t kMaxUserDataBytes = 4096;
 
   ParticipantOptions options_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   bool uses_tcp_ = false;
-  std::unique_ptr<TcpUserTimeoutGuard> tcp_guard_;  // TCP participants only
+  std::unique_ptr<TcpUserTimeoutGuard> tcp_guard_;    // TCP participants only
+  std::unique_ptr<PeerIdentityListener> identities_;  // secure participants only
+  std::string own_client_id_;
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };

@@ -47,7 +47,7 @@ Common CommonOf(Stream stream) {
 
 }  // namespace
 
-fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
+fdds::DataWriterQos WriterQos(Stream stream) {
   fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
   const Common c = CommonOf(stream);
   qos.reliability().kind = c.reliability;
@@ -70,8 +70,7 @@ fdds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength) {
   // keep-last 1 a newer sample replaces one not yet sent.
   qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
   if (stream == Stream::kCommand) {
-    qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
-    qos.ownership_strength().value = static_cast<uint32_t>(ownership_strength);
+    qos.ownership().kind = fdds::SHARED_OWNERSHIP_QOS;
     qos.deadline().period = Duration_t(kCommandDeadlineSeconds);
     qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
     qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);
@@ -93,12 +92,25 @@ fdds::DataReaderQos ReaderQos(Stream stream) {
   const Common c = CommonOf(stream);
   qos.reliability().kind = c.reliability;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = c.depth;
+  const int32_t depth = stream == Stream::kCommand ? kCommandReaderDepth : c.depth;
+  qos.history().depth = depth;
   qos.durability().kind = c.durability;
+  // Bounded: keyless topics have one instance; keep-last holds at most `depth` samples of it.
+  // The sample limit leaves room for kMissingSampleAllowance samples announced but not yet
+  // received (a reliable reader refuses a sample while history + missing reach the limit).
+  qos.resource_limits().max_instances = 1;
+  qos.resource_limits().max_samples_per_instance = depth + kMissingSampleAllowance;
+  qos.resource_limits().max_samples = depth + kMissingSampleAllowance;
+  qos.resource_limits().allocated_samples = depth;
+  // Bounded types (commands, e-stop, control requests, clock probes): samples of the type's
+  // maximum size, preallocated; a bigger one is refused by the RTPS reader. Other types
+  // (images, scans) grow as needed.
   qos.endpoint().history_memory_policy =
-      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+      stream == Stream::kCommand || stream == Stream::kControl
+          ? eprosima::fastrtps::rtps::PREALLOCATED_MEMORY_MODE
+          : eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   if (stream == Stream::kCommand) {
-    qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+    qos.ownership().kind = fdds::SHARED_OWNERSHIP_QOS;
     qos.deadline().period = Duration_t(kCommandDeadlineSeconds);
     qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
     qos.liveliness().lease_duration = Duration_t(kCommandLivelinessSeconds);

@@ -5,15 +5,23 @@
 //   unacknowledged (ack-clock), so video never offers more than the link carries. Best-effort
 //   readers (ROS tools) match too.
 // - kSensor: best effort, keep last 5, volatile: scans, odometry (ROS SensorDataQoS-compatible).
-// - kCommand: reliable, keep last 1, volatile; exclusive ownership, deadline 200 ms,
-//   manual-by-topic liveliness 500 ms.
-// - kState: reliable, keep last 1, transient local: lease, health (late joiners get the latest).
+// - kCommand: reliable, keep last 1 (readers 8), volatile, shared ownership, deadline 200 ms,
+//   manual-by-topic liveliness 500 ms. Ownership is shared: the robot hears every pilot and
+//   keeps the lease holder's commands (SafetyGovernor), so no writer strength a client picks
+//   decides who drives.
+// - kState: reliable, keep last 1, transient local: lease, health, camera info (late joiners
+//   get the latest).
 // - kControl: reliable, keep last 10, volatile: control requests, e-stop, clock probes.
+// Readers hold at most their history depth of one instance (topics are keyless; max_instances
+// 1, max_samples depth + kMissingSampleAllowance); kCommand and kControl readers preallocate
+// samples of the type's maximum size (their types are bounded, idl/mostar_msgs.idl), so a
+// bigger sample is refused before it is read.
 // All writers publish asynchronously (Fast DDS's own sending thread), so write() never blocks
 // the caller on a full transport.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
@@ -23,8 +31,7 @@ enum class Stream { kVideo, kSensor, kCommand, kState, kControl };
 
 const char* StreamName(Stream stream);
 
-// `ownership_strength` is used for kCommand writers only (exclusive ownership).
-eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream, int32_t ownership_strength = 0);
+eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream);
 
 // Default heartbeat period of the video writers.
 constexpr std::chrono::milliseconds kDefaultVideoRepairPeriod{50};
@@ -39,5 +46,9 @@ eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 constexpr double kCommandDeadlineSeconds = 0.2;
 // Liveliness lease of the command stream (MANUAL_BY_TOPIC: each write asserts it).
 constexpr double kCommandLivelinessSeconds = 0.5;
+// History depth of command readers: several pilots write the one (keyless) instance.
+constexpr int32_t kCommandReaderDepth = 8;
+// Reader sample limit beyond the depth: room for samples a reliable reader knows are missing.
+constexpr int32_t kMissingSampleAllowance = 32;
 
 }  // namespace mostar::dds

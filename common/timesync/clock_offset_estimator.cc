@@ -67,26 +67,4 @@ ClockOffsetEstimate ClockOffsetEstimator::Estimate() const {
   return estimate;
 }
 
-bool ClockOffsetTable::AddSample(const std::string& peer_id, const ClockSample& sample) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  auto it = peers_.try_emplace(peer_id, options_).first;
-  return it->second.AddSample(sample);
-}
-
-ClockOffsetEstimate ClockOffsetTable::Estimate(const std::string& peer_id) const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = peers_.find(peer_id);
-  return it == peers_.end() ? ClockOffsetEstimate{} : it->second.Estimate();
-}
-
-void ClockOffsetTable::Forget(const std::string& peer_id) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  peers_.erase(peer_id);
-}
-
-size_t ClockOffsetTable::size() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return peers_.size();
-}
-
 }  // namespace mostar::timesync

@@ -18,8 +18,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
-#include <map>
-#include <mutex>
 #include <string>
 
 #include "common/time/time.h"
@@ -67,7 +65,8 @@ struct ClockOffsetEstimatorOptions {
   bool IsValid(std::string* error) const;
 };
 
-// One peer's estimator. Not thread-safe (see `ClockOffsetTable`).
+// One peer's estimator. Not thread-safe (the robot keeps one per client in
+// robot_server/node/ClockResponder).
 class ClockOffsetEstimator {
  public:
   explicit ClockOffsetEstimator(const ClockOffsetEstimatorOptions& options = {});
@@ -93,23 +92,6 @@ class ClockOffsetEstimator {
   std::deque<Entry> window_;  // oldest first
   uint64_t accepted_ = 0;
   uint64_t rejected_ = 0;
-};
-
-// Estimators per peer id (DDS client id). Thread-safe.
-class ClockOffsetTable {
- public:
-  explicit ClockOffsetTable(const ClockOffsetEstimatorOptions& options = {}) : options_(options) {}
-
-  bool AddSample(const std::string& peer_id, const ClockSample& sample);
-  // `known == false` for a peer never heard of.
-  ClockOffsetEstimate Estimate(const std::string& peer_id) const;
-  void Forget(const std::string& peer_id);
-  size_t size() const;
-
- private:
-  ClockOffsetEstimatorOptions options_;
-  mutable std::mutex mutex_;
-  std::map<std::string, ClockOffsetEstimator> peers_;
 };
 
 }  // namespace mostar::timesync

@@ -173,21 +173,5 @@ TEST(ClockOffsetEstimatorTest, OptionsValidationNamesTheConstraint) {
   EXPECT_NE(error.find("min_samples"), std::string::npos);
 }
 
-TEST(ClockOffsetTableTest, KeepsOneEstimatePerPeer) {
-  ClockOffsetTable table;
-  for (int i = 0; i < 3; ++i) {
-    table.AddSample("alice",
-                    MakeSample(kStart, milliseconds(10), milliseconds(2), milliseconds(2)));
-    table.AddSample("bob", MakeSample(kStart, -milliseconds(20), milliseconds(2), milliseconds(2)));
-  }
-  EXPECT_EQ(table.size(), 2u);
-  EXPECT_EQ(table.Estimate("alice").responder_minus_requester, milliseconds(10));
-  EXPECT_EQ(table.Estimate("bob").responder_minus_requester, -milliseconds(20));
-  EXPECT_FALSE(table.Estimate("carol").known);
-  table.Forget("alice");
-  EXPECT_FALSE(table.Estimate("alice").known);
-  EXPECT_EQ(table.size(), 1u);
-}
-
 }  // namespace
 }  // namespace mostar::timesync

@@ -67,8 +67,8 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
         if (self->callbacks_.on_pong) self->callbacks_.on_pong(dds::FromIdl(probe));
       });
   if (options.pilot) {
-    node->command_ = std::make_unique<decltype(node->command_)::element_type>(
-        p, topics::kCommand, Stream::kCommand, options.command_strength);
+    node->command_ = std::make_unique<decltype(node->command_)::element_type>(p, topics::kCommand,
+                                                                              Stream::kCommand);
   }
   node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(p, topics::kEmergencyStop,
                                                                         Stream::kControl);

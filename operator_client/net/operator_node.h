@@ -2,8 +2,8 @@
 // velocity commands, emergency stops, control requests and clock pings.
 //
 // Knows DDS and the wire types; knows nothing of OpenGL. Callbacks run on DDS threads and must
-// hand data over quickly. The command writer uses exclusive ownership with the given strength,
-// so among several live pilots the robot hears only the strongest.
+// hand data over quickly. Command ownership is shared: the robot hears every pilot and drives
+// with the lease holder's commands only.
 #pragma once
 
 #include <functional>
@@ -35,7 +35,6 @@ class OperatorNode {
   struct Options {
     std::string client_id = "operator";
     bool pilot = false;  // observers create no command writer
-    int32_t command_strength = 10;
   };
 
   static std::unique_ptr<OperatorNode> Create(dds::Participant* participant, const Options& options,

@@ -23,7 +23,7 @@ namespace mostar::ui {
 struct CommandSenderOptions {
   std::string client_id;
   bool pilot = true;      // observers send no velocity commands
-  int32_t strength = 10;  // for control requests
+  int32_t strength = 10;  // sent in control requests; the robot's role table decides instead
   Duration command_period = std::chrono::milliseconds(50);
   Duration ping_period = std::chrono::seconds(1);
   EstopResenderOptions estop{};

@@ -96,8 +96,7 @@ void RobotController::OnCommand(const VelocityCommand& command) {
 
 void RobotController::OnEmergencyStop(const EmergencyStop& stop) {
   const bool authorised =
-      stop.engage ? lease_.MayEngageEstop(stop.sender_id)
-                  : lease_.MayReleaseEstop(stop.sender_id, governor_.status().estop_engaged_by);
+      stop.engage ? lease_.MayEngageEstop(stop.sender_id) : lease_.MayReleaseEstop(stop.sender_id);
   std::string error;
   const bool was_engaged = governor_.status().estop_engaged;
   // A release takes effect only once recorded (else a restart could come back unlatched); an
@@ -124,6 +123,14 @@ void RobotController::OnControlRequest(const ControlRequest& request) {
   MOSTAR_LOG(INFO) << "control " << (request.take ? "take" : "release") << " by "
                    << request.sender_id << ": " << drive::LeaseDecisionName(decision)
                    << "; holder now '" << lease_.holder() << "'";
+}
+
+void RobotController::OnCommandStreamLost(const std::string& client_id) {
+  if (!lease_.OnLivelinessLost(client_id)) return;  // not the holder
+  governor_.OnLinkLost(client_id);
+  governor_.SetLeaseHolder(lease_.holder());
+  lease_changed_ = true;
+  MOSTAR_LOG(WARNING) << "pilot '" << client_id << "' lost its command stream: lease released";
 }
 
 void RobotController::OnScan(const LaserScan& scan) {

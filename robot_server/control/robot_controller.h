@@ -96,6 +96,9 @@ class RobotController {
   void OnCommand(const VelocityCommand& command);
   void OnEmergencyStop(const EmergencyStop& stop);
   void OnControlRequest(const ControlRequest& request);
+  // The DDS liveliness of `client_id`'s command stream was lost: when it holds the lease, the
+  // lease is freed and the governor stops as for a link loss.
+  void OnCommandStreamLost(const std::string& client_id);
   // Laser input (the laser's thread): to the governor, the link, the recorder.
   void OnScan(const LaserScan& scan);
 

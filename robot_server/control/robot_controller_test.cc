@@ -422,6 +422,45 @@ TEST_F(RobotControllerTest, AReleaseThatCannotBeRecordedDoesNotTakeEffect) {
   EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0);
 }
 
+// Observers may engage the e-stop, never release it; only the lease holder releases it.
+TEST_F(RobotControllerTest, OnlyTheLeaseHolderReleasesTheEstop) {
+  Make();
+  AliceDrives(50);
+  EmergencyStop stop;
+  stop.sender_id = "olga";
+  controller_->OnEmergencyStop(stop);
+  ASSERT_TRUE(controller_->governor().status().estop_engaged);
+  stop.engage = false;
+  for (const char* id : {"olga", "bob", "mallory"}) {
+    stop.sender_id = id;
+    controller_->OnEmergencyStop(stop);
+    EXPECT_TRUE(controller_->governor().status().estop_engaged) << id << " released it";
+  }
+  EXPECT_EQ(controller_->governor().status().counters.estop_refused, 3u);
+  Run(5, [this] { Command("alice", 0.3, true); });
+  EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0);
+  stop.sender_id = "alice";
+  controller_->OnEmergencyStop(stop);
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+}
+
+// DDS liveliness of the holder's command writer (RobotNode::Callbacks::on_command_stream_lost).
+TEST_F(RobotControllerTest, TheHoldersLostCommandStreamFreesTheLeaseAtOnce) {
+  Make();
+  AliceDrives(50);
+  ASSERT_GT(motors_.wheels().left_mps, 0.2);
+  controller_->OnCommandStreamLost("bob");  // not the holder: nothing happens
+  EXPECT_EQ(controller_->lease().holder(), "alice");
+  controller_->OnCommandStreamLost("alice");
+  EXPECT_EQ(controller_->lease().holder(), "");
+  EXPECT_EQ(controller_->lease().stats().holder_lost, 1u);
+  EXPECT_EQ(controller_->governor().status().counters.link_losses, 1u);
+  Run(1);
+  EXPECT_EQ(link_.leases.back().holder_id, "") << "the change is published at once";
+  Run(50, [this] { Command("alice", 0.3, true); });
+  EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0) << "nobody inherits motion";
+}
+
 TEST_F(RobotControllerTest, StopStopsTheLaserAndBrakesOnce) {
   Make();
   AliceDrives(50);

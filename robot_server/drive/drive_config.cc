@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "common/identity/client_id.h"
+
 namespace mostar::drive {
 namespace {
 
@@ -71,8 +73,9 @@ bool DriveSettingsFromProto(const DriveConfig& config, DriveSettings* settings,
 
   settings->roles = RoleTable{};
   for (const PilotRole& role : config.roles()) {
-    if (role.client_id().empty()) {
-      *error = "roles: client_id must not be empty";
+    std::string why;
+    if (!identity::IsValidClientId(role.client_id(), &why)) {
+      *error = "roles: client_id '" + role.client_id() + "': " + why;
       return false;
     }
     if (settings->roles.Known(role.client_id())) {

@@ -60,5 +60,19 @@ TEST(DriveConfigTest, RefusesInconsistentDistancesAndDuplicateRoles) {
   EXPECT_NE(error.find("twice"), std::string::npos) << error;
 }
 
+// Role ids are client ids: with DDS Security the CN of each client's certificate.
+TEST(DriveConfigTest, RefusesRoleIdsThatAreNoClientIds) {
+  for (const char* id : {"", "alice smith", "a,b", "CN=alice"}) {
+    DriveConfig config;
+    std::string error;
+    ASSERT_TRUE(ParseTextConfig("roles { client_id: '" + std::string(id) + "' role: PILOT }", "t",
+                                &config, &error))
+        << error;
+    DriveSettings settings;
+    EXPECT_FALSE(DriveSettingsFromProto(config, &settings, &error)) << id;
+    EXPECT_NE(error.find("roles: client_id"), std::string::npos) << error;
+  }
+}
+
 }  // namespace
 }  // namespace mostar::drive

@@ -130,10 +130,8 @@ bool PilotLease::MayEngageEstop(const std::string& client_id) const {
   return roles_.Known(client_id);
 }
 
-bool PilotLease::MayReleaseEstop(const std::string& client_id,
-                                 const std::string& engaged_by) const {
-  if (!roles_.Known(client_id)) return false;
-  return roles_.Lookup(client_id).role == Role::kPilot || client_id == engaged_by;
+bool PilotLease::MayReleaseEstop(const std::string& client_id) const {
+  return roles_.Lookup(client_id).role == Role::kPilot && IsHolder(client_id);
 }
 
 Role PilotLease::RoleOf(const std::string& client_id) const {

@@ -2,7 +2,9 @@
 //
 // Rules:
 // - Roles and strengths come from the server-side role table, never from the request (the
-//   `strength` field of a ControlRequest is ignored). Ids not in the table are observers.
+//   `strength` field of a ControlRequest is ignored). Ids not in the table are observers. The
+//   table is keyed by client id: with DDS Security the CN of the client's certificate, which
+//   RobotNode has checked each request's sender_id against.
 // - Observers never hold the lease.
 // - A pilot takes a free lease. A held lease changes hands only when the holder releases it or
 //   a strictly stronger pilot takes it over; equal or weaker requests are refused.
@@ -12,8 +14,9 @@
 //   accepted commands, its own requests) for `holder_timeout` since the grant or the last sign
 //   of life (ExpireSilentHolder, called by the control loop).
 // - Every change stamps `since` with the clock and increments `lease_sequence`.
-// - E-stop: any client in the role table may engage it; pilots, or the client that engaged it,
-//   may release it.
+// - E-stop: any client in the role table (pilot or observer) may engage it; only the lease
+//   holder may release it (a pilot takes the lease first if nobody holds it). Observers never
+//   release it, even one that engaged it.
 // Thread-safe.
 #pragma once
 
@@ -85,7 +88,7 @@ class PilotLease {
   std::string holder() const;
   bool IsHolder(const std::string& client_id) const;
   bool MayEngageEstop(const std::string& client_id) const;
-  bool MayReleaseEstop(const std::string& client_id, const std::string& engaged_by) const;
+  bool MayReleaseEstop(const std::string& client_id) const;
   Role RoleOf(const std::string& client_id) const;
   PilotLeaseStats stats() const;
 

@@ -104,14 +104,24 @@ TEST_F(PilotLeaseTest, LostHolderMeansNobodyDrives) {
   EXPECT_EQ(lease_.stats().holder_lost, 1u);
 }
 
+// Anyone in the role table may engage the e-stop; only the lease holder may release it.
 TEST_F(PilotLeaseTest, EstopAuthorisation) {
   EXPECT_TRUE(lease_.MayEngageEstop("olga"));
   EXPECT_TRUE(lease_.MayEngageEstop("alice"));
   EXPECT_FALSE(lease_.MayEngageEstop("mallory"));
-  EXPECT_TRUE(lease_.MayReleaseEstop("alice", "olga"));
-  EXPECT_TRUE(lease_.MayReleaseEstop("olga", "olga"));
-  EXPECT_FALSE(lease_.MayReleaseEstop("olga", "alice"));
-  EXPECT_FALSE(lease_.MayReleaseEstop("mallory", "mallory"));
+  // Nobody holds the lease: nobody releases.
+  for (const char* id : {"alice", "bob", "olga", "mallory"}) {
+    EXPECT_FALSE(lease_.MayReleaseEstop(id)) << id;
+  }
+  ASSERT_EQ(lease_.HandleRequest(Take("alice")), LeaseDecision::kGranted);
+  EXPECT_TRUE(lease_.MayReleaseEstop("alice"));
+  EXPECT_FALSE(lease_.MayReleaseEstop("bob")) << "a pilot without the lease";
+  EXPECT_FALSE(lease_.MayReleaseEstop("carol"));
+  EXPECT_FALSE(lease_.MayReleaseEstop("olga")) << "observers never release";
+  EXPECT_FALSE(lease_.MayReleaseEstop("mallory"));
+  ASSERT_EQ(lease_.HandleRequest(Take("bob")), LeaseDecision::kGranted);
+  EXPECT_FALSE(lease_.MayReleaseEstop("alice"));
+  EXPECT_TRUE(lease_.MayReleaseEstop("bob"));
 }
 
 TEST_F(PilotLeaseTest, SilentHolderExpiresAfterTheTimeoutFromTheGrant) {

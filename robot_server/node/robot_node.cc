@@ -4,6 +4,8 @@
 
 #include "common/dds/conversions.h"
 #include "common/dds/topics.h"
+#include "common/identity/client_id.h"
+#include "common/log/log.h"
 
 namespace mostar::server {
 
@@ -19,6 +21,21 @@ bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
   return false;
 }
 
+// An id as it may be logged: valid ids as they are, others replaced (no control characters).
+std::string Printable(const std::string& id) {
+  return identity::IsValidClientId(id) ? "'" + id + "'" : "an invalid id";
+}
+
+std::string Hex(const identity::GuidPrefix& prefix) {
+  static const char* digits = "0123456789abcdef";
+  std::string out;
+  for (const uint8_t b : prefix) {
+    out += digits[b >> 4];
+    out += digits[b & 15];
+  }
+  return out;
+}
+
 }  // namespace
 
 DeviceHealth RobotNode::NetworkHealth() const {
@@ -31,6 +48,14 @@ DeviceHealth RobotNode::NetworkHealth() const {
       {"outbox_dropped", outbox_dropped()},
       {"frame_subscribers", static_cast<uint64_t>(frame_subscribers())},
       {"tcp_sockets_guarded", static_cast<uint64_t>(participant_->tcp_sockets_guarded())}};
+  for (auto& counter : sender_check_->HealthCounters()) network.counters.push_back(counter);
+  const dds::PeerIdentityCounters identities = participant_->identity_counters();
+  network.counters.emplace_back("certificates_verified", identities.certificates_verified);
+  network.counters.emplace_back("certificates_refused", identities.certificates_refused);
+  network.counters.emplace_back("clock_clients_evicted", clock_responder_->evicted());
+  if (!sender_check_->identities_verified()) {
+    network.message = "sender ids unverified: DDS Security is off";
+  }
   return network;
 }
 
@@ -53,6 +78,12 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   node->clock_ = clock;
   node->participant_ = participant;
   node->callbacks_ = std::move(callbacks);
+  node->sender_check_ = std::make_unique<SenderCheck>(participant->secure());
+  node->clock_responder_ = std::make_unique<ClockResponder>(*clock);
+  if (!participant->secure()) {
+    MOSTAR_LOG(WARNING) << "DDS Security is off: the sender ids of commands, e-stops, control "
+                           "requests and clock pings cannot be verified";
+  }
   node->lane_timeout_ = video.lane_timeout;
   RobotNode* self = node.get();
   auto& p = *participant;
@@ -78,26 +109,39 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   node->pong_ = std::make_unique<decltype(node->pong_)::element_type>(p, topics::kClockPong,
                                                                       Stream::kControl);
   node->command_ = std::make_unique<decltype(node->command_)::element_type>(
-      p, topics::kCommand, Stream::kCommand,
-      [self](const dds::wire::VelocityCommand& c) {
-        if (self->callbacks_.on_command) self->callbacks_.on_command(dds::FromIdl(c));
+      p, topics::kCommand, Stream::kCommand, dds::kWithWriter,
+      [self](const dds::wire::VelocityCommand& c, const dds::WriterId& from) {
+        const VelocityCommand command = dds::FromIdl(c);
+        if (!self->Admit(SenderChannel::kCommand, command.sender_id, from)) return;
+        self->command_writers_.NoteCommand(from, command.sender_id);
+        if (self->callbacks_.on_command) self->callbacks_.on_command(command);
       },
-      [self](int alive) {
-        if (self->callbacks_.on_command_writers) self->callbacks_.on_command_writers(alive);
-      });
-  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
-      p, topics::kEmergencyStop, Stream::kControl, [self](const dds::wire::EmergencyStop& s) {
-        if (self->callbacks_.on_estop) self->callbacks_.on_estop(dds::FromIdl(s));
-      });
-  node->request_ = std::make_unique<decltype(node->request_)::element_type>(
-      p, topics::kControlRequest, Stream::kControl, [self](const dds::wire::ControlRequest& r) {
-        if (self->callbacks_.on_control_request) {
-          self->callbacks_.on_control_request(dds::FromIdl(r));
+      [self](const dds::LivelinessChange& change) {
+        if (change.alive_count_change >= 0) return;
+        const std::optional<std::string> lost = self->command_writers_.WriterLost(change.writer);
+        if (lost && self->callbacks_.on_command_stream_lost) {
+          self->callbacks_.on_command_stream_lost(*lost);
         }
       });
+  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
+      p, topics::kEmergencyStop, Stream::kControl, dds::kWithWriter,
+      [self](const dds::wire::EmergencyStop& s, const dds::WriterId& from) {
+        const EmergencyStop stop = dds::FromIdl(s);
+        if (!self->Admit(SenderChannel::kEmergencyStop, stop.sender_id, from)) return;
+        if (self->callbacks_.on_estop) self->callbacks_.on_estop(stop);
+      });
+  node->request_ = std::make_unique<decltype(node->request_)::element_type>(
+      p, topics::kControlRequest, Stream::kControl, dds::kWithWriter,
+      [self](const dds::wire::ControlRequest& r, const dds::WriterId& from) {
+        const ControlRequest request = dds::FromIdl(r);
+        if (!self->Admit(SenderChannel::kControlRequest, request.sender_id, from)) return;
+        if (self->callbacks_.on_control_request) self->callbacks_.on_control_request(request);
+      });
   node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(
-      p, topics::kClockPing, Stream::kControl,
-      [self](const dds::wire::ClockProbe& ping) { self->OnPing(dds::FromIdl(ping)); });
+      p, topics::kClockPing, Stream::kControl, dds::kWithWriter,
+      [self](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
+        self->OnPing(dds::FromIdl(ping), from);
+      });
   for (const VideoLane& lane : node->lanes_) {
     if (!Check(lane.left, error) || !Check(lane.right, error)) return nullptr;
   }
@@ -112,31 +156,26 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   return node;
 }
 
-void RobotNode::OnPing(const ClockProbe& ping) {
+bool RobotNode::Admit(SenderChannel channel, const std::string& sender_id,
+                      const dds::WriterId& from) {
+  const std::optional<std::string> writer = participant_->AuthenticatedClientId(from.participant);
+  const SenderVerdict verdict = sender_check_->Check(channel, sender_id, writer);
+  if (SenderCheck::Admits(verdict)) return true;
+  MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+      << SenderChannelName(channel) << " from participant " << Hex(from.participant) << " as "
+      << Printable(sender_id) << " dropped: " << SenderVerdictName(verdict)
+      << (writer ? " (its certificate is '" + *writer + "')" : "");
+  return false;
+}
+
+void RobotNode::OnPing(const ClockProbe& ping, const dds::WriterId& from) {
   const Time received = clock_->Now();
-  {
-    // Complete the previous exchange with the client's receive time carried by this ping.
-    std::lock_guard<std::mutex> lock(pong_mutex_);
-    auto it = last_pong_.find(ping.sender_id);
-    if (it != last_pong_.end() && it->second.sequence + 1 == ping.sequence &&
-        ToUnixNanos(ping.t3) > 0) {
-      clock_offsets_.AddSample(ping.sender_id,
-                               {it->second.t0, it->second.t1, it->second.t2, ping.t3});
-    }
-  }
-  ClockProbe pong = ping;
-  pong.t1 = received;
-  pong.t2 = clock_->Now();
-  pong.t3 = Time();
-  pong_->Write(dds::ToIdl(pong));
-  std::lock_guard<std::mutex> lock(pong_mutex_);
-  last_pong_[ping.sender_id] = pong;
+  if (!Admit(SenderChannel::kClockPing, ping.sender_id, from)) return;
+  pong_->Write(dds::ToIdl(clock_responder_->Answer(ping.sender_id, ping, received)));
 }
 
 std::optional<Duration> RobotNode::RobotMinusClient(const std::string& client_id) const {
-  const timesync::ClockOffsetEstimate estimate = clock_offsets_.Estimate(client_id);
-  if (!estimate.known) return std::nullopt;
-  return estimate.responder_minus_requester;
+  return clock_responder_->RobotMinusClient(client_id);
 }
 
 bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
@@ -191,6 +230,15 @@ void RobotNode::PublishHealth(const RobotHealth& health) {
   Post([this, m = dds::ToIdl(health)] { health_->Write(m); });
 }
 void RobotNode::PublishLease(const ControlLease& lease) {
+  {
+    // A new holder starts with a fresh clock offset (and the old one's is dropped).
+    std::lock_guard<std::mutex> lock(lease_mutex_);
+    if (lease.holder_id != lease_holder_) {
+      clock_responder_->Forget(lease_holder_);
+      clock_responder_->Forget(lease.holder_id);
+      lease_holder_ = lease.holder_id;
+    }
+  }
   Post([this, m = dds::ToIdl(lease)] { lease_->Write(m); });
 }
 

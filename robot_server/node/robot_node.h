@@ -2,7 +2,14 @@
 //
 // Knows DDS and the wire types; knows nothing of devices. Callbacks run on DDS threads and must
 // be quick (hand the data over, do not block). Clock pings are answered here (NTP-style pong
-// with receive and send stamps on the robot clock).
+// with receive and send stamps on the robot clock, ClockResponder).
+//
+// Every command, e-stop, control request and clock ping passes SenderCheck before it is handed
+// on: with DDS Security its sender_id must be the client id (certificate CN) of the
+// authenticated participant that wrote it, else it is dropped, counted in the "network" health
+// device and logged (at most every 5 s); without DDS Security ids are taken as written and the
+// health says identities_verified = 0. Clock offsets are kept per admitted client id and reset
+// for the old and the new holder when the lease changes hands (seen in PublishLease).
 #pragma once
 
 #include <atomic>
@@ -20,14 +27,16 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/qos.h"
 #include "common/time/time.h"
-#include "common/timesync/clock_offset_estimator.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
 #include "common/types/stereo_frame.h"
 #include "mostar_msgsPubSubTypes.h"
+#include "robot_server/node/clock_responder.h"
+#include "robot_server/node/command_writers.h"
 #include "robot_server/node/robot_link.h"
+#include "robot_server/node/sender_check.h"
 #include "ros2_msgsPubSubTypes.h"
 
 namespace mostar::server {
@@ -50,8 +59,9 @@ class RobotNode final : public RobotLink {
     std::function<void(const VelocityCommand&)> on_command;
     std::function<void(const EmergencyStop&)> on_estop;
     std::function<void(const ControlRequest&)> on_control_request;
-    // Number of live command writers changed (a pilot appeared or vanished).
-    std::function<void(int alive_writers)> on_command_writers;
+    // The DDS liveliness of the last live cmd_vel writer of `client_id` was lost (silent for
+    // the liveliness lease, or gone): its command stream is gone.
+    std::function<void(const std::string& client_id)> on_command_stream_lost;
   };
 
   using VideoOptions = RobotVideoOptions;
@@ -110,20 +120,28 @@ class RobotNode final : public RobotLink {
   // Pairs written on a lane that a reader had left unacknowledged for lane_timeout.
   uint64_t lanes_reclaimed() const { return lanes_reclaimed_.load(); }
   int command_writers() const { return command_->matched(); }
+  // True with DDS Security: senders are verified against their certificates.
+  bool identities_verified() const { return sender_check_->identities_verified(); }
+  // Samples dropped by the sender check so far.
+  uint64_t sender_drops() const { return sender_check_->dropped(); }
 
  private:
   RobotNode() = default;
 
-  void OnPing(const ClockProbe& ping);
+  void OnPing(const ClockProbe& ping, const dds::WriterId& from);
+  // SenderCheck of a sample from `from`; logs drops. True when the sample may be handed on.
+  bool Admit(SenderChannel channel, const std::string& sender_id, const dds::WriterId& from);
   void Post(std::function<void()> write);
   void PublisherLoop();
 
   const Clock* clock_ = nullptr;
   const dds::Participant* participant_ = nullptr;
   Callbacks callbacks_;
-  timesync::ClockOffsetTable clock_offsets_;
-  std::mutex pong_mutex_;
-  std::map<std::string, ClockProbe> last_pong_;  // per client: the pong we sent last
+  std::unique_ptr<SenderCheck> sender_check_;
+  std::unique_ptr<ClockResponder> clock_responder_;
+  CommandWriterTracker command_writers_;
+  std::mutex lease_mutex_;
+  std::string lease_holder_;  // holder of the lease last published
   using ImageWriter = dds::Writer<sensor_msgs::msg::dds_::CompressedImage_PubSubType>;
   struct VideoLane {
     std::unique_ptr<ImageWriter> left;

@@ -1,0 +1,103 @@
+#include "common/dds/security.h"
+
+#include <cstring>
+
+#include "common/identity/peer_certificate.h"
+#include "common/log/log.h"
+
+namespace mostar::dds {
+
+namespace frtps = eprosima::fastrtps;
+
+namespace {
+
+identity::GuidPrefix PrefixOf(const frtps::rtps::GuidPrefix_t& guid_prefix) {
+  identity::GuidPrefix prefix;
+  std::memcpy(prefix.data(), guid_prefix.value, prefix.size());
+  return prefix;
+}
+
+// "file:///a/b" or "file:/a/b" -> "/a/b"; false for other URIs.
+bool FilePath(const std::string& uri, std::string* path) {
+  const std::string scheme = "file:";
+  if (uri.compare(0, scheme.size(), scheme) != 0) return false;
+  std::string rest = uri.substr(scheme.size());
+  if (rest.compare(0, 2, "//") == 0) rest = rest.substr(2);
+  if (rest.empty()) return false;
+  *path = rest;
+  return true;
+}
+
+}  // namespace
+
+bool SecuritySettingsFromProperties(const frtps::rtps::PropertyPolicy& properties,
+                                    SecuritySettings* settings, std::string* error) {
+  using frtps::rtps::PropertyPolicyHelper;
+  *settings = SecuritySettings();
+  const std::string* plugin =
+      PropertyPolicyHelper::find_property(properties, "dds.sec.auth.plugin");
+  if (plugin == nullptr || *plugin != "builtin.PKI-DH") return true;
+  settings->authentication = true;
+  for (const auto& [name, path] :
+       {std::make_pair("dds.sec.auth.builtin.PKI-DH.identity_ca", &settings->identity_ca_path),
+        std::make_pair("dds.sec.auth.builtin.PKI-DH.identity_certificate",
+                       &settings->identity_certificate_path)}) {
+    const std::string* uri = PropertyPolicyHelper::find_property(properties, name);
+    if (uri == nullptr || !FilePath(*uri, path)) {
+      *error = std::string("DDS Security property ") + name + " must be a file: URI";
+      return false;
+    }
+  }
+  return true;
+}
+
+PeerIdentityListener::PeerIdentityListener(std::unique_ptr<identity::IdentityCa> ca)
+    : ca_(std::move(ca)) {}
+
+PeerIdentityCounters PeerIdentityListener::counters() const {
+  PeerIdentityCounters c;
+  c.certificates_verified = verified_.load();
+  c.certificates_refused = refused_.load();
+  c.without_certificate = without_certificate_.load();
+  c.authenticated = authenticated_.load();
+  return c;
+}
+
+void PeerIdentityListener::on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                                    frtps::rtps::ParticipantDiscoveryInfo&& info) {
+  using Status = frtps::rtps::ParticipantDiscoveryInfo;
+  const identity::GuidPrefix prefix = PrefixOf(info.info.m_guid.guidPrefix);
+  if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+    table_.Forget(prefix);
+    return;
+  }
+  std::vector<uint8_t> der;
+  if (!identity::CertificateFromUserData(info.info.m_userData.data_vec(), &der)) {
+    ++without_certificate_;
+    return;
+  }
+  std::string why;
+  const std::optional<std::string> client_id =
+      identity::ClientIdOfAnnouncedCertificate(*ca_, prefix, der, &why);
+  if (!client_id) {
+    ++refused_;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 10)
+        << "DDS participant " << info.info.m_guid.guidPrefix
+        << " announced a certificate that proves no client id: " << why;
+    return;
+  }
+  if (table_.Bind(prefix, *client_id)) ++verified_;
+}
+
+void PeerIdentityListener::onParticipantAuthentication(
+    eprosima::fastdds::dds::DomainParticipant*, frtps::rtps::ParticipantAuthenticationInfo&& info) {
+  const identity::GuidPrefix prefix = PrefixOf(info.guid.guidPrefix);
+  if (info.status == frtps::rtps::ParticipantAuthenticationInfo::AUTHORIZED_PARTICIPANT) {
+    ++authenticated_;
+    table_.MarkAuthenticated(prefix);
+  } else {
+    table_.Forget(prefix);
+  }
+}
+
+}  // namespace mostar::dds

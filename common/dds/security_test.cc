@@ -1,0 +1,203 @@
+// DDS Security identities: the settings read from participant properties, and secure
+// participants (PKI-DH, certificates made here) learning each other's client ids.
+#include "common/dds/security.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "common/dds/conversions.h"
+#include "common/dds/domain.h"
+#include "common/dds/endpoint.h"
+#include "common/dds/participant.h"
+#include "common/identity/test_certificates.h"
+#include "mostar_msgsPubSubTypes.h"
+
+namespace mostar::dds {
+namespace {
+
+using eprosima::fastrtps::rtps::Property;
+using eprosima::fastrtps::rtps::PropertyPolicy;
+using identity::testing::KeyAndCert;
+using identity::testing::MakeCertificate;
+
+PropertyPolicy Properties(std::initializer_list<std::pair<std::string, std::string>> entries) {
+  PropertyPolicy policy;
+  for (const auto& [name, value] : entries) policy.properties().emplace_back(name, value);
+  return policy;
+}
+
+TEST(SecuritySettingsTest, ReadsPkiDhFilesFromTheProperties) {
+  SecuritySettings settings;
+  std::string error;
+  ASSERT_TRUE(SecuritySettingsFromProperties(
+      Properties({{"dds.sec.auth.plugin", "builtin.PKI-DH"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_ca", "file:///etc/pki/ca.pem"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_certificate", "file:alice.pem"}}),
+      &settings, &error))
+      << error;
+  EXPECT_TRUE(settings.authentication);
+  EXPECT_EQ(settings.identity_ca_path, "/etc/pki/ca.pem");
+  EXPECT_EQ(settings.identity_certificate_path, "alice.pem");
+}
+
+TEST(SecuritySettingsTest, NoPkiDhMeansNoAuthenticationAndBadUrisAreRefused) {
+  SecuritySettings settings;
+  std::string error;
+  ASSERT_TRUE(SecuritySettingsFromProperties(Properties({}), &settings, &error));
+  EXPECT_FALSE(settings.authentication);
+  EXPECT_FALSE(SecuritySettingsFromProperties(
+      Properties({{"dds.sec.auth.plugin", "builtin.PKI-DH"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_certificate", "file:/a.pem"}}),
+      &settings, &error));
+  EXPECT_NE(error.find("identity_ca"), std::string::npos);
+  EXPECT_FALSE(SecuritySettingsFromProperties(
+      Properties({{"dds.sec.auth.plugin", "builtin.PKI-DH"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_ca", "file:/ca.pem"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_certificate", "pkcs11:token=x"}}),
+      &settings, &error));
+  EXPECT_NE(error.find("identity_certificate"), std::string::npos);
+}
+
+template <class Predicate>
+bool WaitFor(Predicate predicate, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (predicate()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return predicate();
+}
+
+identity::GuidPrefix PrefixOf(const Participant& p) {
+  identity::GuidPrefix prefix;
+  const auto guid = p.get()->guid();
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), prefix.begin());
+  return prefix;
+}
+
+// Secure participants on loopback UDP: PKI-DH authentication only (no access control, no
+// encryption), certificates from a CA made here.
+class SecureParticipantsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = ::testing::TempDir() + "/mostar_security_test_" + std::to_string(::getpid());
+    ASSERT_EQ(std::system(("mkdir -p " + dir_).c_str()), 0);
+    MakeCertificate("mostar identity CA", nullptr, &ca_);
+    std::ofstream(dir_ + "/ca.pem") << identity::testing::Pem(ca_.cert);
+  }
+  void TearDown() override { std::system(("rm -rf " + dir_).c_str()); }
+
+  // A participant whose certificate has CN `cn`; `profile` names its XML profile (unique in
+  // this process).
+  std::unique_ptr<Participant> Make(const std::string& cn, const std::string& profile) {
+    auto key_and_cert = std::make_unique<KeyAndCert>();
+    MakeCertificate(cn, &ca_, key_and_cert.get());
+    const std::string base = dir_ + "/" + profile;
+    std::ofstream(base + ".cert.pem") << identity::testing::Pem(key_and_cert->cert);
+    std::ofstream(base + ".key.pem") << identity::testing::KeyPem(key_and_cert->key);
+    std::ofstream(base + ".xml") << R"(<?xml version="1.0" encoding="UTF-8"?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <transport_descriptors>
+    <transport_descriptor>
+      <transport_id>udp_)" << profile
+                                 << R"(</transport_id>
+      <type>UDPv4</type>
+      <interfaceWhiteList><address>127.0.0.1</address></interfaceWhiteList>
+    </transport_descriptor>
+  </transport_descriptors>
+  <participant profile_name=")" << profile
+                                 << R"(">
+    <rtps>
+      <builtin>
+        <initialPeersList>
+          <locator><udpv4><address>127.0.0.1</address></udpv4></locator>
+        </initialPeersList>
+        <discovery_config>
+          <leaseAnnouncement><sec>1</sec></leaseAnnouncement>
+        </discovery_config>
+      </builtin>
+      <userTransports><transport_id>udp_)"
+                                 << profile << R"(</transport_id></userTransports>
+      <useBuiltinTransports>false</useBuiltinTransports>
+      <propertiesPolicy>
+        <properties>
+          <property><name>dds.sec.auth.plugin</name><value>builtin.PKI-DH</value></property>
+          <property><name>dds.sec.auth.builtin.PKI-DH.identity_ca</name><value>file://)"
+                                 << dir_ << R"(/ca.pem</value></property>
+          <property><name>dds.sec.auth.builtin.PKI-DH.identity_certificate</name><value>file://)"
+                                 << base << R"(.cert.pem</value></property>
+          <property><name>dds.sec.auth.builtin.PKI-DH.private_key</name><value>file://)"
+                                 << base << R"(.key.pem</value></property>
+        </properties>
+      </propertiesPolicy>
+    </rtps>
+  </participant>
+</profiles>
+)";
+    keys_.push_back(std::move(key_and_cert));
+    ParticipantOptions options;
+    options.domain_id = PerProcessDomainId();
+    options.profile = base + ".xml";
+    options.xml_participant_profile = profile;
+    options.name = profile;
+    std::string error;
+    auto p = Participant::Create(options, &error);
+    EXPECT_NE(p, nullptr) << error;
+    return p;
+  }
+
+  std::string dir_;
+  KeyAndCert ca_;
+  std::vector<std::unique_ptr<KeyAndCert>> keys_;
+};
+
+TEST_F(SecureParticipantsTest, EachSampleComesWithTheClientIdOfItsCertificate) {
+  auto robot = Make("robot", "sec_robot");
+  auto alice = Make("alice", "sec_alice");
+  ASSERT_TRUE(robot && alice);
+  EXPECT_TRUE(robot->secure());
+  EXPECT_EQ(robot->own_client_id(), "robot");
+  EXPECT_EQ(alice->own_client_id(), "alice");
+  using CommandType = mostar_msgs::msg::dds_::VelocityCommand_PubSubType;
+  std::mutex mutex;
+  std::vector<std::optional<std::string>> senders;
+  Participant* robot_ptr = robot.get();
+  Reader<CommandType> reader(
+      *robot, "rt/test/sec_cmd", Stream::kCommand, kWithWriter,
+      [&](const wire::VelocityCommand&, const WriterId& from) {
+        std::lock_guard<std::mutex> lock(mutex);
+        senders.push_back(robot_ptr->AuthenticatedClientId(from.participant));
+      });
+  Writer<CommandType> writer(*alice, "rt/test/sec_cmd", Stream::kCommand);
+  ASSERT_TRUE(WaitFor([&] { return reader.matched() == 1; }, std::chrono::seconds(15)));
+  ASSERT_TRUE(writer.Write(ToIdl(VelocityCommand{FromUnixNanos(1), 1, "alice", 0, 0, false})));
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return !senders.empty();
+      },
+      std::chrono::seconds(5)));
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_EQ(senders.front(), "alice");
+  EXPECT_EQ(alice->AuthenticatedClientId(PrefixOf(*robot)), "robot");
+  EXPECT_EQ(robot->AuthenticatedClientId(PrefixOf(*robot)), std::nullopt);  // not a peer
+  EXPECT_GE(robot->identity_counters().certificates_verified, 1u);
+  EXPECT_GE(robot->identity_counters().authenticated, 1u);
+}
+
+TEST(InsecureParticipantTest, KnowsNoIdentities) {
+  ParticipantOptions options;
+  options.domain_id = PerProcessDomainId();
+  std::string error;
+  auto p = Participant::Create(options, &error);
+  ASSERT_NE(p, nullptr) << error;
+  EXPECT_FALSE(p->secure());
+  EXPECT_EQ(p->own_client_id(), "");
+  EXPECT_EQ(p->AuthenticatedClientId(PrefixOf(*p)), std::nullopt);
+}
+
+}  // namespace
+}  // namespace mostar::dds

@@ -1,0 +1,73 @@
+#include "robot_server/node/sender_check.h"
+
+#include "common/identity/client_id.h"
+
+namespace mostar::server {
+
+const char* SenderChannelName(SenderChannel channel) {
+  switch (channel) {
+    case SenderChannel::kCommand:
+      return "cmd_vel";
+    case SenderChannel::kEmergencyStop:
+      return "estop";
+    case SenderChannel::kControlRequest:
+      return "control_request";
+    case SenderChannel::kClockPing:
+      return "clock_ping";
+  }
+  return "?";
+}
+
+const char* SenderVerdictName(SenderVerdict verdict) {
+  switch (verdict) {
+    case SenderVerdict::kVerified:
+      return "verified";
+    case SenderVerdict::kUnverified:
+      return "unverified (no DDS Security)";
+    case SenderVerdict::kMismatch:
+      return "sender_id is not the writer's certificate";
+    case SenderVerdict::kUnidentified:
+      return "the writer has no verified identity";
+    case SenderVerdict::kInvalidId:
+      return "invalid sender_id";
+  }
+  return "?";
+}
+
+SenderVerdict SenderCheck::Check(SenderChannel channel, const std::string& sender_id,
+                                 const std::optional<std::string>& authenticated) {
+  SenderVerdict verdict;
+  if (!identity::IsValidClientId(sender_id)) {
+    verdict = SenderVerdict::kInvalidId;
+    ++invalid_;
+  } else if (!identities_verified_) {
+    verdict = SenderVerdict::kUnverified;
+  } else if (!authenticated) {
+    verdict = SenderVerdict::kUnidentified;
+    ++unidentified_;
+  } else if (*authenticated != sender_id) {
+    verdict = SenderVerdict::kMismatch;
+    ++mismatch_;
+  } else {
+    verdict = SenderVerdict::kVerified;
+  }
+  if (!Admits(verdict)) ++dropped_by_channel_[static_cast<size_t>(channel)];
+  return verdict;
+}
+
+uint64_t SenderCheck::dropped() const { return mismatch_ + unidentified_ + invalid_; }
+
+std::vector<std::pair<std::string, uint64_t>> SenderCheck::HealthCounters() const {
+  std::vector<std::pair<std::string, uint64_t>> out = {
+      {"identities_verified", identities_verified_ ? 1 : 0},
+      {"sender_mismatch_dropped", mismatch_.load()},
+      {"sender_unidentified_dropped", unidentified_.load()},
+      {"sender_invalid_dropped", invalid_.load()}};
+  for (size_t c = 0; c < dropped_by_channel_.size(); ++c) {
+    out.emplace_back(std::string("dropped_") + SenderChannelName(static_cast<SenderChannel>(c)),
+                     dropped_by_channel_[c].load());
+  }
+  return out;
+}
+
+}  // namespace mostar::server
