@@ -62,6 +62,8 @@ class EstopLatchRestartTest : public ::testing::Test {
         });
     estop_ = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>>(
         *participant_, dds::topics::kEmergencyStop, dds::Stream::kControl);
+    request_ = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>>(
+        *participant_, dds::topics::kControlRequest, dds::Stream::kControl);
   }
 
   void StartServer(Subprocess* server, int run) {
@@ -91,9 +93,15 @@ class EstopLatchRestartTest : public ::testing::Test {
     return std::nullopt;
   }
 
-  // Sends a release as the pilot "operator" until the health reports it released.
+  // As the pilot "operator": takes the lease (only its holder may release the e-stop) and sends
+  // a release, until the health reports it released.
   bool Release() {
     for (int i = 0; i < 300; ++i) {
+      ControlRequest take;
+      take.stamp = SystemClock::Instance().Now();
+      take.sender_id = "operator";
+      take.take = true;
+      request_->Write(dds::ToIdl(take));
       EmergencyStop stop;
       stop.stamp = SystemClock::Instance().Now();
       stop.sender_id = "operator";  // a pilot in server_sim.pbtxt's role table
@@ -111,6 +119,7 @@ class EstopLatchRestartTest : public ::testing::Test {
   std::unique_ptr<dds::Participant> participant_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;
   std::mutex mutex_;
   std::optional<LatchReport> report_;
   Time started_;

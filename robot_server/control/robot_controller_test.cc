@@ -410,6 +410,7 @@ TEST_F(RobotControllerTest, AReleaseThatCannotBeRecordedDoesNotTakeEffect) {
   }
   Restart(dir + "/file");  // a state directory that cannot exist: starts latched
   EXPECT_TRUE(controller_->governor().status().estop_engaged);
+  Take("alice");  // only the lease holder may release the e-stop
   Estop("alice", false);
   EXPECT_TRUE(controller_->governor().status().estop_engaged);
   const RobotHealth health = LatestHealth();
