@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <vector>
 
 #include "robot_server/camera/fake_stereo_camera.h"
 
@@ -135,6 +137,83 @@ TEST(BitrateControllerTest, ConvergesOnRealJpegSizes) {
   const RunResult result = Simulate(&controller, 15, jpeg_bytes);
   EXPECT_LE(result.tail_offered_bits_per_s, kTarget * 1.05);
   EXPECT_GE(result.tail_offered_bits_per_s, kTarget * 0.6);
+}
+
+// A WAN link whose capacity steps from 8 to 2 and back to 8 Mbit/s (a cellular hand-over),
+// 50 ms one-way, behind the robot's ack-clock (RobotNode): at most kLanes pairs unacknowledged,
+// a pair is skipped at the source when every lane waits for its acknowledgement. Pairs queue
+// at the bottleneck; ages are capture to fully delivered for the pairs that were sent. Each
+// phase lasts 15 s.
+struct StepPhase {
+  double link_bits_per_s;
+  double achieved_after_2s_bits_per_s = 0;  // sent bits from 2 s after the step to its end
+  double age_p95_after_2s_s = 0;            // of the pairs sent from 2 s after the step on
+  double age_max_s = 0;                     // of every pair sent in the phase
+};
+
+void SimulateLinkSteps(BitrateController* controller, std::vector<StepPhase>* phases) {
+  constexpr double kOneWayS = 0.05, kPhaseS = 15;
+  constexpr size_t kLanes = 4;  // RobotVideoOptions::window_pairs
+  SteadyTime now(std::chrono::seconds(100));
+  SteadyTime link_busy_until = now;
+  std::vector<SteadyTime> lane_free(kLanes, now);  // when each lane's pair is acknowledged
+  const Duration period = FromSeconds(1.0 / kFrameRateHz);
+  int k = 0;
+  for (StepPhase& phase : *phases) {
+    std::vector<double> settled_ages;
+    double settled_bits = 0;
+    const int frames = static_cast<int>(kPhaseS * kFrameRateHz);
+    for (int i = 0; i < frames; ++i, ++k, now += period) {
+      const EncodeSettings settings = controller->Current();
+      if (k % settings.frame_rate_divisor != 0) continue;
+      const size_t bytes = ModelPairBytes(settings);
+      const auto lane =
+          std::find_if(lane_free.begin(), lane_free.end(), [&](SteadyTime t) { return t <= now; });
+      const bool sent = lane != lane_free.end();
+      if (sent) {
+        const double transmit_s = 8.0 * static_cast<double>(bytes) / phase.link_bits_per_s;
+        link_busy_until = std::max(link_busy_until, now) + FromSeconds(transmit_s);
+        *lane = link_busy_until + FromSeconds(2 * kOneWayS);  // the acknowledgement comes back
+        const double age_s = ToSeconds(link_busy_until - now) + kOneWayS;
+        phase.age_max_s = std::max(phase.age_max_s, age_s);
+        if (i >= 2 * kFrameRateHz) {
+          settled_ages.push_back(age_s);
+          settled_bits += 8.0 * static_cast<double>(bytes);
+        }
+      }
+      controller->OnPairEncoded(now, bytes, sent);
+    }
+    std::sort(settled_ages.begin(), settled_ages.end());
+    if (!settled_ages.empty()) {
+      phase.age_p95_after_2s_s = settled_ages[settled_ages.size() * 95 / 100];
+    }
+    phase.achieved_after_2s_bits_per_s = settled_bits / (kPhaseS - 2);
+  }
+}
+
+TEST(BitrateControllerTest, FollowsALinkStepFrom8To2To8MbitWithin2s) {
+  BitrateControllerOptions options;
+  options.target_bits_per_s = 8e6;  // the WAN class
+  BitrateController controller(options);
+  std::vector<StepPhase> phases = {{8e6}, {2e6}, {8e6}};
+  SimulateLinkSteps(&controller, &phases);
+  for (const StepPhase& p : phases) {
+    std::printf(
+        "link %.0f Mbit/s: achieved %.2f Mbit/s from 2 s on, age p95 %.0f ms, max %.0f ms\n",
+        p.link_bits_per_s / 1e6, p.achieved_after_2s_bits_per_s / 1e6, p.age_p95_after_2s_s * 1e3,
+        p.age_max_s * 1e3);
+  }
+  for (const StepPhase& p : phases) {
+    // Within 2 s of a step the age is back near the one-way delay, and it never explodes on
+    // the way (the ack-clock keeps at most four pairs queued).
+    EXPECT_LE(p.age_p95_after_2s_s, 0.05 + 0.1) << p.link_bits_per_s;
+    EXPECT_LE(p.age_max_s, 0.5) << p.link_bits_per_s;
+    EXPECT_LE(p.achieved_after_2s_bits_per_s, p.link_bits_per_s);
+    EXPECT_GE(p.achieved_after_2s_bits_per_s, 0.5 * p.link_bits_per_s) << p.link_bits_per_s;
+  }
+  // The slow phase uses the 2 Mbit/s it has (not the 500 kbit/s floor), and the last phase
+  // gets back most of what the first had.
+  EXPECT_GE(phases[2].achieved_after_2s_bits_per_s, 0.8 * phases[0].achieved_after_2s_bits_per_s);
 }
 
 TEST(BitrateControllerTest, OptionsValidationNamesTheProblem) {

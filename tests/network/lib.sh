@@ -4,6 +4,9 @@
 #                      when namespaces cannot be created here
 #   pids+=(PID)        processes that cleanup stops
 #   check TEXT EXPR    prints ok/FAIL for a shell condition and counts failures in $failures
+#   at_most VALUE MAX  true when VALUE is a number no greater than MAX
+#   run_bench CMD...   runs a bench whose result a test checks: prints its output and keeps it in
+#                      $bench_out; exits 77 when the bench was skipped, 1 when it failed
 # KEEP_WORK=1 keeps the work directory.
 net_here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 pids=()
@@ -31,4 +34,19 @@ net_setup() {
 
 check() {
   if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi
+}
+
+at_most() {
+  [[ "$1" =~ ^[0-9]+(\.[0-9]+)?$ ]] && python3 -c "import sys; sys.exit(0 if $1 <= $2 else 1)"
+}
+
+run_bench() {
+  local status
+  set +e
+  bench_out=$("$@" 2>&1)
+  status=$?
+  set -e
+  echo "$bench_out"
+  [ "$status" -ne 77 ] || exit 77
+  [ "$status" -eq 0 ] || { echo "FAIL: $(basename "$1") exited with status $status"; exit 1; }
 }

@@ -189,7 +189,7 @@ run_one() {  # index, outage seconds or "readdress"
   [[ "$observers" != *"obs1 obs2"* ]] || probe1=${pids[-2]}
   ip netns exec "${prefix}_pilot" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" \
     "$operator_client" --headless --domain "$domain" --dds-profile "$ov/pilot.dds.xml" \
-    --id operator --role pilot --strength 10 --duration "$total" --drive "$speed,0" \
+    --id operator --role pilot --duration "$total" --drive "$speed,0" \
     --calibration "$src/deploy/config/calibration_sim.pbtxt" --trace "$run/client.csv" \
     >"$run/client.log" 2>&1 &
   xvfb_pid=$!; pids+=("$xvfb_pid")

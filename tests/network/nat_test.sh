@@ -13,21 +13,13 @@
 set -euo pipefail
 [ $# -eq 6 ] || { echo "usage: nat_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
-set +e
-out=$(RUNS=5 "$here/nat_bench.sh" "$@" 2>&1)
-status=$?
-set -e
-echo "$out"
-[ "$status" -ne 77 ] || exit 77
-[ "$status" -eq 0 ] || { echo "FAIL: nat_bench.sh exited with status $status"; exit 1; }
-line=$(echo "$out" | grep '^RESULT ' || true)
+source "$here/lib.sh"
+RUNS=5 run_bench "$here/nat_bench.sh" "$@"
+line=$(echo "$bench_out" | grep '^RESULT ' || true)
 [ -n "$line" ] || { echo "FAIL: no result"; exit 1; }
 value() { echo "$line" | tr ' ' '\n' | sed -n "s/^$1=//p"; }
 stop_ms=$(value stop_ms); stale=$(value stale); drive_s=$(value drive_s)
 back=$(value back); fresh=$(value fresh); exit_s=$(value exit)
-failures=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
-at_most() { [[ "$1" =~ ^[0-9]+(\.[0-9]+)?$ ]] && python3 -c "import sys; sys.exit(0 if $1 <= $2 else 1)"; }
 check "the robot stopped within 700 ms of the last command ($stop_ms ms)" 'at_most "$stop_ms" 700'
 check "the robot never moved on stale commands" '[ "$stale" = no ]'
 check "the pilot drove again within 10 s of the link coming back ($drive_s s)" 'at_most "$drive_s" 10'

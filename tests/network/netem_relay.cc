@@ -7,6 +7,8 @@
 //      serialisation time (like tbf's `latency`);
 //   3. one-way delay --delay-ms plus uniform jitter in [-jitter-ms, +jitter-ms], never
 //      reordering packets.
+// --rate-steps "S:KBIT,..." changes the bottleneck rate S seconds after start (both directions),
+// for capacity-step experiments (a cellular hand-over).
 // SIGUSR1 toggles an outage (every packet dropped both ways) for link-loss experiments;
 // `ip link set DEV down` inside a namespace works as well. The program stops after
 // --duration-s seconds or on SIGINT/SIGTERM; the TUN devices disappear with it.
@@ -34,6 +36,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace mostar::network {
@@ -53,7 +56,43 @@ struct PathModel {
   double loss = 0;        // probability in [0, 1]
   double rate_kbit = 0;   // 0 = unlimited
   double queue_ms = 200;  // bottleneck queue, in serialisation time
+  // (seconds after start, rate_kbit) in increasing time order: the rate from then on.
+  std::vector<std::pair<double, double>> rate_steps;
+  Clock::time_point start = Clock::now();
+
+  double RateKbitAt(Clock::time_point t) const {
+    double rate = rate_kbit;
+    const double since_start_s = std::chrono::duration<double>(t - start).count();
+    for (const auto& [at_s, kbit] : rate_steps) {
+      if (since_start_s >= at_s) rate = kbit;
+    }
+    return rate;
+  }
 };
+
+// Parses "S:KBIT,S:KBIT" (times increasing, rates >= 0). False with `error` otherwise.
+bool ParseRateSteps(const std::string& text, std::vector<std::pair<double, double>>* steps,
+                    std::string* error) {
+  steps->clear();
+  size_t begin = 0;
+  while (begin < text.size()) {
+    const size_t end = std::min(text.find(',', begin), text.size());
+    const std::string item = text.substr(begin, end - begin);
+    const size_t colon = item.find(':');
+    char* rest = nullptr;
+    const double at_s = std::strtod(item.c_str(), &rest);
+    const double kbit =
+        colon == std::string::npos ? -1 : std::strtod(item.c_str() + colon + 1, &rest);
+    if (colon == std::string::npos || *rest != '\0' || !(at_s >= 0) || !(kbit >= 0) ||
+        (!steps->empty() && at_s <= steps->back().first)) {
+      *error = "--rate-steps: '" + item + "' is not SECONDS:KBIT after the previous step";
+      return false;
+    }
+    steps->emplace_back(at_s, kbit);
+    begin = end + 1;
+  }
+  return true;
+}
 
 struct Counters {
   std::atomic<uint64_t> forwarded{0};
@@ -137,9 +176,10 @@ void Forward(int in, int out, PathModel model, uint64_t seed, Counters* counters
     }
     const Clock::time_point arrival = Clock::now();
     Clock::time_point sent_at = arrival;
-    if (model.rate_kbit > 0) {
+    const double rate_kbit = model.RateKbitAt(arrival);
+    if (rate_kbit > 0) {
       const auto serialisation = std::chrono::microseconds(
-          static_cast<int64_t>(static_cast<double>(n) * 8.0 * 1000.0 / model.rate_kbit));
+          static_cast<int64_t>(static_cast<double>(n) * 8.0 * 1000.0 / rate_kbit));
       const Clock::time_point start = std::max(arrival, link_free_at);
       if (start - arrival >
           std::chrono::microseconds(static_cast<int64_t>(model.queue_ms * 1000))) {
@@ -180,6 +220,9 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--rate-kbit", model.rate_kbit, "bottleneck rate in kbit/s (0 = unlimited)")
       ->check(CLI::Range(0.0, 10e6));
+  std::string rate_steps;
+  app.add_option("--rate-steps", rate_steps,
+                 "rate changes 'SECONDS:KBIT,...' after start (e.g. '20:2000,40:8000')");
   app.add_option("--queue-ms", model.queue_ms, "bottleneck queue length in ms of sending time")
       ->check(CLI::Range(1.0, 10000.0));
   app.add_option("--duration-s", duration_s, "stop after this many seconds")
@@ -188,6 +231,10 @@ int Main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   std::string error;
+  if (!ParseRateSteps(rate_steps, &model.rate_steps, &error)) {
+    std::cerr << "netem_relay: " << error << "\n";
+    return 2;
+  }
   const int fd_a = OpenTunIn(netns_a, dev_a, &error);
   const int fd_b = fd_a < 0 ? -1 : OpenTunIn(netns_b, dev_b, &error);
   if (fd_a < 0 || fd_b < 0) {
@@ -204,12 +251,13 @@ int Main(int argc, char** argv) {
   signal(SIGTERM, OnStop);
   signal(SIGUSR1, OnToggleOutage);
   Counters a_to_b, b_to_a;
+  model.start = Clock::now();
   std::thread forward(Forward, fd_a, fd_b, model, seed, &a_to_b);
   std::thread backward(Forward, fd_b, fd_a, model, seed + 1, &b_to_a);
   std::cout << "netem_relay: ready " << netns_a << ":" << dev_a << "=" << addr_a << " <-> "
             << netns_b << ":" << dev_b << "=" << addr_b << " delay_ms=" << model.delay_ms
             << " jitter_ms=" << model.jitter_ms << " loss=" << model.loss
-            << " rate_kbit=" << model.rate_kbit << std::endl;
+            << " rate_kbit=" << model.rate_kbit << " rate_steps=" << rate_steps << std::endl;
   const Clock::time_point end =
       Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(duration_s * 1000));
   while (!g_stop && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -156,7 +156,7 @@ run_outage() {  # outage seconds
   fi
   ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator_client" \
     --headless --domain "$domain" --dds-profile "$work/wan.xml" --id operator --role pilot \
-    --strength 10 --duration "$total" --drive "$speed,0" \
+    --duration "$total" --drive "$speed,0" \
     --calibration "$src/deploy/config/calibration_sim.pbtxt" \
     --trace "$run/client.csv" > "$run/client.log" 2>&1 &
   local xvfb_pid=$!; pids+=("$xvfb_pid")

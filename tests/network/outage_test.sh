@@ -14,27 +14,20 @@
 set -euo pipefail
 [ $# -eq 5 ] || { echo "usage: outage_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY SOURCE_DIR" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
-set +e
+source "$here/lib.sh"
 # The pilot alone (PROBE=0): a second TCP client from the same address can starve on Fast DDS
 # 2.9 (docs/networking.md, known limits).
-out=$(PROFILE=${PROFILE:-wan.xml} PROBE=0 OUTAGES=5 POST_S=15 ATTEMPTS=2 VIDEO_HZ=15 VIDEO_QUALITY=60 "$here/outage_bench.sh" "$@" 2>&1)
-status=$?
-set -e
-echo "$out"
-[ "$status" -ne 77 ] || exit 77
-[ "$status" -eq 0 ] || { echo "FAIL: outage_bench.sh exited with status $status"; exit 1; }
-row=$(echo "$out" | grep '^| 5 s |' || true)
+PROFILE=${PROFILE:-wan.xml} PROBE=0 OUTAGES=5 POST_S=15 ATTEMPTS=2 VIDEO_HZ=15 VIDEO_QUALITY=60 \
+  run_bench "$here/outage_bench.sh" "$@"
+row=$(echo "$bench_out" | grep '^| 5 s |' || true)
 [ -n "$row" ] || { echo "FAIL: no result row"; exit 1; }
 cell() { echo "$row" | awk -F'|' -v i=$(($1 + 2)) '{ gsub(/^ +| +$/, "", $i); print $i }'; }
 stop_ms=$(cell 1); moved=$(cell 4); resume_s=$(cell 5); frame_age=$(cell 6)
 echo "outage_test: stop ${stop_ms} ms, moved on stale data: ${moved}, driving again after ${resume_s} s, video after: ${frame_age}"
-failures=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
-number() { [[ "$1" =~ ^[0-9]+(\.[0-9]+)?$ ]]; }
-check "the robot stopped within 700 ms of the last command" 'number "$stop_ms" && [ "${stop_ms%.*}" -le 700 ]'
+check "the robot stopped within 700 ms of the last command" 'at_most "$stop_ms" 700'
 check "the robot never moved on stale data" '[ "$moved" = no ]'
 check "the pilot drove again within 12 s of the link coming back" \
-  'number "$resume_s" && python3 -c "import sys; sys.exit(0 if $resume_s <= 12 else 1)"'
+  'at_most "$resume_s" 12'
 pilot_frames=$(echo "$frame_age" | sed -n 's/.*pilot got \([0-9]*\) frames.*/\1/p')
 check "video reached the pilot again after the link came back (>= 10 frames)" \
   '[ "${pilot_frames:-0}" -ge 10 ]'

@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Bitrate step bench: the video follows a link whose capacity changes (a cellular hand-over).
+#
+# robot_server (simulator video, 30 Hz) in the robot namespace and a headless operator_client
+# pilot in the operator namespace talk over the WAN UDP profile through netem_relay (50 ms
+# one-way, 5 ms jitter, no loss) whose bottleneck steps through RATES (kbit/s), PHASE_S seconds
+# each. The robot's bitrate controller has no configured target (class `lan`): it learns the
+# link from the ack-clock alone. All programs share this machine's clock, so the pilot's trace
+# (arrival and capture stamp of every left frame) gives each frame's age directly.
+#
+# Printed: per phase, the stereo pairs/s and the age p50/p95 from 2 s after the step to the end
+# of the phase, the largest age in the phase, and the settle time (step -> the first 1 s bin
+# after which every bin has age p95 <= one-way + 100 ms); then the bins, one per second.
+#
+# Usage: bitrate_step_bench.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR
+# Environment: RATES ("8000 2000 8000"), PHASE_S (20), KEEP_WORK=1 keeps the traces and logs.
+# Needs root (network namespaces, TUN), xvfb-run and python3; exit 77 (skipped) without them.
+set -euo pipefail
+[ $# -eq 4 ] || {
+  echo "usage: bitrate_step_bench.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR" >&2
+  exit 2
+}
+robot_server=$1; operator_client=$2; netem_relay=$3; src=$(cd "$4" && pwd)
+here=$(cd "$(dirname "$0")" && pwd)
+source "$here/lib.sh"
+command -v xvfb-run >/dev/null || { echo "bitrate_step_bench: xvfb-run is missing" >&2; exit 77; }
+command -v python3 >/dev/null || { echo "bitrate_step_bench: python3 is missing" >&2; exit 77; }
+read -r -a rates <<< "${RATES:-8000 2000 8000}"
+phase_s=${PHASE_S:-20}
+lead_s=8  # the robot and the pilot start and discover each other before the first phase
+net_setup bitrate
+rns="${prefix}_robot"; ons="${prefix}_operator"
+
+# Only the emulated path: UDP participants announce every interface address.
+sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/wan_udp.xml" > "$work/wan.xml"
+ip -n "$rns" link set veth0 down
+ip -n "$ons" link set veth0 down
+sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
+  "$src/deploy/config/server_sim.pbtxt" > "$work/server.pbtxt"
+
+steps=""; at=$lead_s
+for ((i = 1; i < ${#rates[@]}; i++)); do
+  at=$((at + phase_s)); steps+="${steps:+,}$at:${rates[$i]}"
+done
+total=$((lead_s + phase_s * ${#rates[@]}))
+domain=$((100 + RANDOM % 100))
+"$netem_relay" --netns-a "$rns" --netns-b "$ons" --delay-ms 50 --jitter-ms 5 \
+  --rate-kbit "${rates[0]}" ${steps:+--rate-steps "$steps"} --duration-s $((total + 30)) \
+  > "$work/netem.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
+grep -q ready "$work/netem.log" || { cat "$work/netem.log" >&2; exit 1; }
+start_ns=$(date +%s%N)  # the relay's clock for --rate-steps starts with "ready"
+
+ip netns exec "$rns" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
+  --config "$work/server.pbtxt" --source sim > "$work/server.log" 2>&1 &
+pids+=($!)
+ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator_client" \
+  --headless --domain "$domain" --dds-profile "$work/wan.xml" --id operator --role pilot \
+  --duration $((total - 1)) --calibration "$src/deploy/config/calibration_sim.pbtxt" \
+  --trace "$work/client.csv" > "$work/client.log" 2>&1 &
+client_pid=$!; pids+=("$client_pid")
+wait "$client_pid" || true
+
+echo "bitrate_step_bench: link ${rates[*]} kbit/s, ${phase_s} s each, 50 ms one-way; $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
+python3 - "$work/client.csv" "$start_ns" "$lead_s" "$phase_s" "${rates[@]}" <<'EOF'
+import sys
+path, start_ns, lead_s, phase_s = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
+rates = [float(r) for r in sys.argv[5:]]
+one_way_s, settled_age_s = 0.05, 0.05 + 0.1
+frames = []  # (seconds since the relay started, age in s)
+for line in open(path):
+    parts = line.strip().split(',')
+    if len(parts) >= 3 and parts[0] == 'left_rx':
+        arrival, capture = int(parts[1]), int(parts[2])
+        frames.append(((arrival - start_ns) / 1e9, (arrival - capture) / 1e9))
+def pct(values, p):
+    values = sorted(values)
+    return values[min(len(values) - 1, int(len(values) * p / 100))] if values else float('nan')
+print("| phase | link Mbit/s | pairs/s | age p50 ms | age p95 ms | age max ms | settle s |")
+print("|---|---|---|---|---|---|---|")
+bins = []
+for i, rate in enumerate(rates):
+    t0 = lead_s + i * phase_s
+    phase = [(t, a) for t, a in frames if t0 <= t < t0 + phase_s]
+    settled = [a for t, a in phase if t >= t0 + 2]
+    settle = None
+    phase_bins = []
+    for b in range(int(phase_s)):
+        ages = [a for t, a in phase if t0 + b <= t < t0 + b + 1]
+        phase_bins.append((t0 + b, rate, len(ages), pct(ages, 50), pct(ages, 95)))
+    for b in range(len(phase_bins)):
+        if all(n > 0 and p95 <= settled_age_s for _, _, n, _, p95 in phase_bins[b:]):
+            settle = b
+            break
+    bins += phase_bins
+    print(f"| {i + 1} | {rate / 1000:.0f} | {len(settled) / (phase_s - 2):.1f} | "
+          f"{pct(settled, 50) * 1e3:.0f} | {pct(settled, 95) * 1e3:.0f} | "
+          f"{max((a for _, a in phase), default=float('nan')) * 1e3:.0f} | "
+          f"{'never' if settle is None else settle} |")
+print()
+print("second,link_kbit,pairs,age_p50_ms,age_p95_ms")
+for t, rate, n, p50, p95 in bins:
+    print(f"{t:.0f},{rate:.0f},{n},{p50 * 1e3:.0f},{p95 * 1e3:.0f}")
+EOF
