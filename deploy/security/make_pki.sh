@@ -40,7 +40,9 @@
 #             publishes clock/ping and estop (anyone watching may stop the robot), never
 #             cmd_vel or control/request.
 #   relay     subscribes and publishes camera, scan, odom, health, control/lease (it forwards
-#             them to observers); nothing towards the robot.
+#             them to observers) and estop (observers' engagements go to the robot under the
+#             relay's name; list that name as an OBSERVER in the robot's role table); never
+#             cmd_vel, control/request or clock/ping.
 set -euo pipefail
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
@@ -248,7 +250,7 @@ for o in "${observers[@]}"; do
 done
 for r in "${relays[@]}"; do
   make_identity "$r"
-  make_permissions "$r" "$sensors" "$sensors"
+  make_permissions "$r" "$sensors rt/mostar/estop" "$sensors rt/mostar/estop"
   make_profile "$r"
 done
 

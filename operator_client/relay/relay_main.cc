@@ -5,10 +5,12 @@
 // --robot-profile-name, default "relay") subscribes to camera left/right, scan, odometry,
 // health and control lease; one on the observer side (domain --observer-domain, profile
 // --observer-profile-name, default "relay_observers") re-publishes every sample unchanged, with
-// the same QoS (common/dds/qos.h). Nothing is ever forwarded towards the robot: the relay
-// creates no writer on the robot side, so observers behind it can neither drive nor stop the
-// robot, and with DDS Security its permissions (deploy/security/make_pki.sh --relay) do not
-// allow it either.
+// the same QoS (common/dds/qos.h). Towards the robot only one thing goes: observers'
+// emergency-stop engagements, under the relay's own id and thinned (estop_forwarding.h), so
+// anyone watching can stop the robot. Commands, control requests, clock pings and e-stop
+// releases are never forwarded: observers behind the relay cannot drive the robot or release a
+// stop, and with DDS Security the relay's permissions (deploy/security/make_pki.sh --relay)
+// allow it no other writer on the robot side.
 //
 // The two sides must not share a DDS network: give them different domain ids (the default
 // observer domain is the robot domain + 1), or the relay would hear its own output.
@@ -16,14 +18,15 @@
 // sides use one profiles file (--dds-profile; deploy/dds/{lan,wan}.xml define both profiles),
 // or "loopback".
 //
-// Threading: samples are forwarded on the DDS receive threads of the robot-side readers; the
-// main thread only prints statistics every --stats-period-s and waits for a signal or
-// --duration-s.
+// Threading: samples are forwarded on the DDS receive threads of the readers (the e-stop
+// forwarding under its own mutex); the main thread only prints statistics every
+// --stats-period-s and waits for a signal or --duration-s.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -34,7 +37,9 @@
 #include "common/dds/topics.h"
 #include "common/log/log.h"
 #include "common/process/stop_signals.h"
+#include "common/time/time.h"
 #include "mostar_msgsPubSubTypes.h"
+#include "operator_client/relay/estop_forwarding.h"
 #include "ros2_msgsPubSubTypes.h"
 
 namespace mostar::relay {
@@ -78,8 +83,56 @@ class Forwarder final : public ForwarderBase {
   dds::Reader<PubSubType> reader_;
 };
 
+// Observers' e-stops (observer side) to the robot (robot side), engagements only.
+class EstopForwarder final : public ForwarderBase {
+ public:
+  EstopForwarder(dds::Participant& robot_side, dds::Participant& observer_side,
+                 const std::string& relay_id)
+      : forwarding_(relay_id, std::chrono::milliseconds(50)),
+        writer_(robot_side, dds::topics::kEmergencyStop, dds::Stream::kControl),
+        reader_(observer_side, dds::topics::kEmergencyStop, dds::Stream::kControl,
+                [this](const dds::wire::EmergencyStop& sample) {
+                  const EmergencyStop received = dds::FromIdl(sample);
+                  std::lock_guard<std::mutex> lock(mutex_);
+                  const std::optional<EmergencyStop> out =
+                      forwarding_.OnObserverEstop(received, clock_.Now(), clock_.SteadyNow());
+                  if (!out) return;
+                  MOSTAR_LOG(WARNING)
+                      << "emergency stop from observer " << received.sender_id.substr(0, 64)
+                      << " forwarded to the robot";
+                  if (!writer_.Write(dds::ToIdl(*out))) ++write_failures_;
+                }) {}
+
+  bool ok(std::string* error) const override {
+    if (!writer_.ok()) *error = writer_.error();
+    if (!reader_.ok()) *error = reader_.error();
+    return writer_.ok() && reader_.ok();
+  }
+  std::string Stats() const override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const EstopForwardingStats& s = forwarding_.stats();
+    return std::string(dds::topics::kEmergencyStop) +
+           " (to the robot): in=" + std::to_string(s.received) +
+           " out=" + std::to_string(s.forwarded) +
+           " releases_refused=" + std::to_string(s.releases_refused) +
+           " thinned=" + std::to_string(s.rate_limited) +
+           " refused=" + std::to_string(write_failures_) +
+           " robots=" + std::to_string(writer_.matched());
+  }
+
+ private:
+  SystemClock clock_;
+  mutable std::mutex mutex_;
+  EstopForwarding forwarding_;
+  uint64_t write_failures_ = 0;
+  dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType> writer_;
+  dds::Reader<mostar_msgs::msg::dds_::EmergencyStop_PubSubType> reader_;
+};
+
 int Main(int argc, char** argv) {
-  CLI::App app("mostar_relay: forwards the robot's sensor streams to many observers");
+  CLI::App app(
+      "mostar_relay: forwards the robot's sensor streams to many observers, and their e-stops "
+      "to the robot");
   std::string profile = "loopback";
   dds::ParticipantOptions robot_options, observer_options;
   robot_options.name = "relay";
@@ -90,6 +143,10 @@ int Main(int argc, char** argv) {
   double duration_s = 0;
   double stats_period_s = 5;
   std::string log_level = "info";
+  std::string relay_id = "relay";
+  app.add_option("--id", relay_id,
+                 "client id of the relay's forwarded e-stops (with DDS Security: its certificate "
+                 "name, which is used whatever this says)");
   app.add_option("--dds-profile", profile, "'loopback' or a Fast DDS XML profiles file");
   app.add_option("--robot-domain", robot_options.domain_id, "DDS domain of the robot")
       ->check(CLI::Range(0, 232));
@@ -151,6 +208,8 @@ int Main(int argc, char** argv) {
       *robot_side, *observer_side, topics::kHealth, Stream::kState));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
       *robot_side, *observer_side, topics::kControlLease, Stream::kState));
+  if (!robot_side->own_client_id().empty()) relay_id = robot_side->own_client_id();
+  forwarders.push_back(std::make_unique<EstopForwarder>(*robot_side, *observer_side, relay_id));
   for (const auto& f : forwarders) {
     if (!f->ok(&error)) {
       std::cerr << "mostar_relay: " << error << "\n";
@@ -159,7 +218,7 @@ int Main(int argc, char** argv) {
   }
   MOSTAR_LOG(INFO) << "mostar_relay: robot domain " << robot_options.domain_id
                    << " -> observer domain " << observer_options.domain_id << " (" << profile
-                   << ")";
+                   << "); observers' e-stops go to the robot as '" << relay_id << "'";
 
   InstallStopSignals();
   using Clock = std::chrono::steady_clock;

@@ -9,11 +9,15 @@
 // Output: one summary line on stdout,
 //   probe: left=N right=N scan=N odom=N health=N lease=N left_age_p50_ms=.. left_age_p95_ms=..
 //          scan_age_p50_ms=.. scan_age_p95_ms=.. ping_oneway_p50_ms=.. ping_rtt_p50_ms=..
-//          pongs=N command_writer=ok|refused|none
+//          pongs=N command_writer=ok|refused|none measured_s=.. estops_sent=N
+//          estop_seen_after_s=S|no releases_sent=N robot_estop=engaged|clear
 // and with --samples FILE one line per sample: topic,receive_ns,stamp_ns.
 //
 // --try-command-writer asks DDS for a cmd_vel writer (without publishing), to check that DDS
-// Security permissions refuse it for observers. Exit code 0 unless setup failed.
+// Security permissions refuse it for observers. --estop-at S engages the e-stop S seconds after
+// start, as an observer's console does (repeated until the robot's health reports it), then
+// sends releases from 1 s later, which the robot must refuse from an observer. Exit code 0
+// unless setup failed.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
@@ -113,6 +117,11 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0.5, 3600.0));
   app.add_option("--samples", samples_path, "write topic,receive_ns,stamp_ns per sample");
   app.add_flag("--try-command-writer", try_command_writer, "ask DDS for a cmd_vel writer");
+  double estop_at_s = -1;
+  app.add_option("--estop-at", estop_at_s,
+                 "engage the e-stop this many seconds after start, then try to release it 1 s "
+                 "later (an observer's e-stop; the release must be refused)")
+      ->check(CLI::Range(0.0, 3600.0));
   app.add_flag("!--no-ping", ping, "do not send clock pings");
   app.add_option("--warmup-s", warmup_s,
                  "leave the first seconds after the first sample out of the statistics")
@@ -133,6 +142,7 @@ int Main(int argc, char** argv) {
   namespace topics = dds::topics;
   using dds::Stream;
   auto& p = *participant;
+  std::atomic<bool> robot_estop{false};  // as the robot's last health said
   dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> left(
       p, topics::kCameraLeft, Stream::kVideo, [&](const dds::wire::CompressedImage& m) {
         recorder.Add("left", dds::FromIdl(m.header().stamp()));
@@ -150,8 +160,10 @@ int Main(int argc, char** argv) {
         recorder.Add("odom", dds::FromIdl(m.header().stamp()));
       });
   dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType> health(
-      p, topics::kHealth, Stream::kState,
-      [&](const dds::wire::RobotHealth& m) { recorder.Add("health", dds::FromIdl(m.stamp())); });
+      p, topics::kHealth, Stream::kState, [&](const dds::wire::RobotHealth& m) {
+        recorder.Add("health", dds::FromIdl(m.stamp()));
+        robot_estop = m.estop_engaged();
+      });
   dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType> lease(
       p, topics::kControlLease, Stream::kState,
       [&](const dds::wire::ControlLease& m) { recorder.Add("lease", dds::FromIdl(m.stamp())); });
@@ -190,32 +202,67 @@ int Main(int argc, char** argv) {
     command_writer = command.ok() ? "ok" : "refused";
   }
 
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_writer;
+  if (estop_at_s >= 0) {
+    estop_writer = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>>(
+        p, topics::kEmergencyStop, Stream::kControl);
+    if (!estop_writer->ok()) {
+      std::cerr << "net_probe: cannot create the e-stop writer\n";
+      return 2;
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto since_start_s = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  // Like the console: the engagement is repeated until the robot reports it (EstopResender);
+  // the release is sent a few times, and must be refused.
+  int estops_sent = 0, releases_sent = 0;
+  std::string estop_seen = "no";
+
   InstallStopSignals();
   const auto end = std::chrono::steady_clock::now() +
                    std::chrono::milliseconds(static_cast<int64_t>(duration_s * 1000));
-  uint64_t sequence = 0;
+  uint64_t sequence = 0, iteration = 0;
   while (!StopRequested() && std::chrono::steady_clock::now() < end) {
-    if (ping_writer) {
+    // Pings every 200 ms; the loop runs every 50 ms while an e-stop may be due.
+    if (ping_writer && iteration++ % (estop_writer ? 4 : 1) == 0) {
       ClockProbe probe;
       probe.sender_id = id;
       probe.sequence = ++sequence;
       probe.t0 = clock.Now();
       ping_writer->Write(dds::ToIdl(probe));
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    if (estop_writer && since_start_s() >= estop_at_s) {
+      EmergencyStop stop;
+      stop.stamp = clock.Now();
+      stop.sender_id = id;
+      if (!robot_estop && estop_seen == "no" && estops_sent < 50) {
+        stop.engage = true;
+        if (estop_writer->Write(dds::ToIdl(stop))) ++estops_sent;
+      } else if (robot_estop && estop_seen == "no") {
+        estop_seen = std::to_string(since_start_s() - estop_at_s);
+      } else if (since_start_s() >= estop_at_s + 1 && releases_sent < 3) {
+        stop.engage = false;
+        if (estop_writer->Write(dds::ToIdl(stop))) ++releases_sent;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(estop_writer ? 50 : 200));
   }
   char line[1024];
   std::snprintf(line, sizeof(line),
                 "probe: left=%d right=%d scan=%d odom=%d health=%d lease=%d "
                 "left_age_p50_ms=%.1f left_age_p95_ms=%.1f scan_age_p50_ms=%.1f "
                 "scan_age_p95_ms=%.1f ping_oneway_p50_ms=%.1f ping_rtt_p50_ms=%.1f pongs=%d "
-                "command_writer=%s measured_s=%.2f",
+                "command_writer=%s measured_s=%.2f estops_sent=%d estop_seen_after_s=%s "
+                "releases_sent=%d robot_estop=%s",
                 recorder.Count("left"), recorder.Count("right"), recorder.Count("scan"),
                 recorder.Count("odom"), recorder.Count("health"), recorder.Count("lease"),
                 recorder.Percentile("left", 0.5), recorder.Percentile("left", 0.95),
                 recorder.Percentile("scan", 0.5), recorder.Percentile("scan", 0.95),
                 recorder.Percentile("ping_oneway", 0.5), recorder.Percentile("ping_rtt", 0.5),
-                recorder.Count("ping_rtt"), command_writer.c_str(), recorder.MeasuredSeconds());
+                recorder.Count("ping_rtt"), command_writer.c_str(), recorder.MeasuredSeconds(),
+                estops_sent, estop_seen.c_str(), releases_sent, robot_estop ? "engaged" : "clear");
   std::cout << line << std::endl;
   return 0;
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # mostar_relay delivers the robot's streams to several observers on another DDS domain, and
-# nothing reaches the robot through it. Loopback profile: no namespaces needed.
+# nothing reaches the robot through it but an observer's e-stop engagement: observer 1 engages
+# the e-stop 3 s in, and tries to release it 1 s later. Loopback profile: no namespaces needed.
 #
 # Usage: relay_test.sh ROBOT_SERVER MOSTAR_RELAY NET_PROBE SOURCE_DIR
 set -euo pipefail
@@ -30,7 +31,8 @@ relay_pid=$!
 sleep 1
 probes=()
 for i in 1 2 3; do
-  "$net_probe" --domain "$observer_domain" --id "observer$i" --duration-s 8 \
+  estop=(); [ "$i" != 1 ] || estop=(--estop-at 3)
+  "$net_probe" --domain "$observer_domain" --id "observer$i" --duration-s 8 "${estop[@]}" \
     > "$work/probe$i.out" 2>&1 &
   probes+=($!)
 done
@@ -54,5 +56,13 @@ for i in 1 2 3; do
     echo "FAIL: observer$i got $pongs pongs through the relay"; failures=$((failures + 1)); fi
 done
 cat "$work/relay.out"
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
+check "observer 1's e-stop reached the robot through the relay (its health says engaged after $(field probe1 estop_seen_after_s) s)" \
+  '[ "$(field probe1 estop_seen_after_s)" != no ] && [ "$(field probe1 robot_estop)" = engaged ]'
+check "the robot took it from the relay's id" 'grep -q "emergency stop engage from relay" "$work/server.log"'
+check "observer 1's release was not forwarded: the e-stop stays engaged for every observer" \
+  '[ "$(field probe1 releases_sent)" -ge 1 ] && grep -q "releases_refused=[1-9]" "$work/relay.out" &&
+   [ "$(field probe2 robot_estop)" = engaged ] && [ "$(field probe3 robot_estop)" = engaged ] &&
+   ! grep -q "emergency stop release" "$work/server.log"'
 [ "$failures" -eq 0 ] || exit 1
 echo "relay_test: all checks passed"
