@@ -4,6 +4,7 @@
 // the robot would (robot_server/replay).
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -119,6 +120,7 @@ int Run(int argc, char** argv) {
   if (!participant) return Fail(1, error);
 
   InstallStopSignals();
+  InstallSignalRequest(SIGUSR2);  // a local e-stop release (root on the robot)
   if (!flags.replay_path.empty()) {
     auto node = RobotNode::Create(participant.get(), {}, clock, &error);
     if (!node) return Fail(1, error);
@@ -223,6 +225,7 @@ int Run(int argc, char** argv) {
       std::fflush(nullptr);
       std::_Exit(3);  // an orderly teardown would wait on the blocked write
     }
+    if (TakeSignalRequest(SIGUSR2)) controller.ReleaseEstopLocally();
     if (flags.duration_s > 0 && now - start > FromSeconds(flags.duration_s)) break;
     std::this_thread::sleep_until(next_cycle);
   }

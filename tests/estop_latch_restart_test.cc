@@ -114,6 +114,18 @@ class EstopLatchRestartTest : public ::testing::Test {
     return false;
   }
 
+  // The newest report of the running server says released (up to 30 s).
+  bool ReportsReleased() {
+    for (int i = 0; i < 300; ++i) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (report_ && report_->stamp >= started_ && !report_->engaged) return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  }
+
   std::string dir_;
   std::string state_dir_;
   std::unique_ptr<dds::Participant> participant_;
@@ -152,6 +164,24 @@ TEST_F(EstopLatchRestartTest, AKilledServerComesBackLatchedUntilAPilotReleasesIt
   EXPECT_FALSE(report->engaged) << "released, then stopped cleanly";
   EXPECT_NE(report->latch_message.find("started unlatched"), std::string::npos)
       << report->latch_message;
+  server.Signal(SIGTERM);
+  EXPECT_EQ(server.Wait(seconds(20)), std::optional<int>(0));
+}
+
+// Someone at the robot (root) releases the latch without a pilot: SIGUSR2 to robot_server.
+TEST_F(EstopLatchRestartTest, SigusrTwoReleasesTheLatchAtTheRobot) {
+  Subprocess server;
+  StartServer(&server, 1);
+  ASSERT_TRUE(FirstReport().has_value()) << testing::ReadFile(dir_ + "/server1.log");
+  server.Signal(SIGKILL);
+  ASSERT_TRUE(server.Wait(seconds(20)).has_value());
+  StartServer(&server, 2);
+  const std::optional<LatchReport> report = FirstReport();
+  ASSERT_TRUE(report.has_value()) << testing::ReadFile(dir_ + "/server2.log");
+  ASSERT_TRUE(report->engaged);
+  server.Signal(SIGUSR2);
+  EXPECT_TRUE(ReportsReleased()) << testing::ReadFile(dir_ + "/server2.log");
+  EXPECT_NE(testing::ReadFile(dir_ + "/server2.log").find("released locally"), std::string::npos);
   server.Signal(SIGTERM);
   EXPECT_EQ(server.Wait(seconds(20)), std::optional<int>(0));
 }

@@ -10,4 +10,10 @@ void InstallStopSignals();
 bool StopRequested();
 void RequestStop();
 
+// A signal as a one-shot request (robot_server: SIGUSR2 releases the e-stop at the robot): the
+// handler sets a lock-free flag that TakeSignalRequest() returns and clears. For signal
+// numbers 1..64 other than SIGINT and SIGTERM; false for others.
+bool InstallSignalRequest(int signal_number);
+bool TakeSignalRequest(int signal_number);
+
 }  // namespace mostar

@@ -116,6 +116,21 @@ void RobotController::OnEmergencyStop(const EmergencyStop& stop) {
                       << stop.sender_id << (authorised ? "" : " refused (not authorised)");
 }
 
+bool RobotController::ReleaseEstopLocally() {
+  if (!governor_.status().estop_engaged) return false;
+  std::string error;
+  if (devices_.estop_latch != nullptr && !devices_.estop_latch->Record(false, "", &error)) {
+    MOSTAR_LOG(ERROR) << "local emergency stop release refused: cannot record it: " << error;
+    return false;
+  }
+  EmergencyStop release;
+  release.sender_id = "local";
+  release.engage = false;
+  governor_.HandleEmergencyStop(release, /*authorised=*/true);
+  MOSTAR_LOG(WARNING) << "emergency stop released locally (at the robot); the pilot must re-arm";
+  return true;
+}
+
 void RobotController::OnControlRequest(const ControlRequest& request) {
   const drive::LeaseDecision decision = lease_.HandleRequest(request);
   governor_.SetLeaseHolder(lease_.holder());

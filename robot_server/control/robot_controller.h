@@ -96,6 +96,10 @@ class RobotController {
   void OnCommand(const VelocityCommand& command);
   void OnEmergencyStop(const EmergencyStop& stop);
   void OnControlRequest(const ControlRequest& request);
+  // A release by someone at the robot (robot_server's SIGUSR2: root on the robot), the path
+  // besides the lease holder's (docs/safety.md G10). Recorded first like any release; the
+  // pilot must re-arm before driving. False when nothing was engaged or it cannot be recorded.
+  bool ReleaseEstopLocally();
   // The DDS liveliness of `client_id`'s command stream was lost: when it holds the lease, the
   // lease is freed and the governor stops as for a link loss.
   void OnCommandStreamLost(const std::string& client_id);

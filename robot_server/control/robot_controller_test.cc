@@ -445,6 +445,24 @@ TEST_F(RobotControllerTest, OnlyTheLeaseHolderReleasesTheEstop) {
   EXPECT_FALSE(controller_->governor().status().estop_engaged);
 }
 
+// Someone at the robot releases the e-stop (SIGUSR2): recorded, and a re-arm is still needed.
+TEST_F(RobotControllerTest, ALocalReleaseFreesTheLatchAndNeedsARearm) {
+  const std::string dir = testing::MakeTempDir("mostar_controller_latch_");
+  Restart(dir);
+  EXPECT_FALSE(controller_->ReleaseEstopLocally()) << "nothing engaged";
+  AliceDrives(50);
+  Estop("olga", true);
+  ASSERT_TRUE(controller_->governor().status().estop_engaged);
+  EXPECT_TRUE(controller_->ReleaseEstopLocally());
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+  Run(5, [this] { Command("alice", 0.3, true); });
+  EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0) << "drove without a re-arm";
+  AliceDrives(50);
+  EXPECT_GT(motors_.wheels().left_mps, 0.0);
+  Restart(dir);  // the release was recorded
+  EXPECT_FALSE(controller_->governor().status().estop_engaged);
+}
+
 // DDS liveliness of the holder's command writer (RobotNode::Callbacks::on_command_stream_lost).
 TEST_F(RobotControllerTest, TheHoldersLostCommandStreamFreesTheLeaseAtOnce) {
   Make();
