@@ -113,6 +113,16 @@ EncoderTicks SimWorld::EncodersAt(Time t) {
   return drive_.encoders();
 }
 
+float SimWorld::SonarEchoAt(Time t, const SonarMount& mount, const SonarCone& cone) {
+  Pose2D pose;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    AdvanceLocked(t);
+    pose = drive_.world_from_base();
+  }
+  return SonarFirstEcho(*world_, pose, mount, cone);  // the World is immutable
+}
+
 RobotState SimWorld::StateAt(Time t) {
   std::lock_guard<std::mutex> lock(mutex_);
   AdvanceLocked(t);

@@ -24,6 +24,7 @@
 #include "robot_server/sim/laser_raycast.h"
 #include "robot_server/sim/scene.pb.h"
 #include "robot_server/sim/sim_config.pb.h"
+#include "robot_server/sim/sonar_raycast.h"
 #include "robot_server/sim/stereo_renderer.h"
 #include "robot_server/sim/world.h"
 
@@ -72,6 +73,8 @@ class SimWorld {
                     std::vector<float>* ranges_m);
   // A stereo pair at t (BGR8 images); with `with_truth` the labels and base rows too.
   StereoImages StereoAt(Time t, bool with_truth, Pose2D* world_from_base = nullptr);
+  // The first echo of a sonar at `mount` at t (sonar_raycast.h: metres, +Inf = nothing).
+  float SonarEchoAt(Time t, const SonarMount& mount, const SonarCone& cone);
   EncoderTicks EncodersAt(Time t);
   RobotState StateAt(Time t);
 

@@ -57,6 +57,21 @@ TEST(SimWorldTest, CollisionIsReportedInTheState) {
   EXPECT_LT(s.world_from_base.x_m, 1.5);
 }
 
+TEST(SimWorldTest, SonarEchoFollowsTheRobotTowardsAGlassDoor) {
+  auto sim = MakeWorld(
+      "box { x_m: 3 y_m: 0 size_x_m: 0.02 size_y_m: 2 height_m: 2 "
+      "material { laser: TRANSPARENT } }");
+  SonarMount front;
+  front.x_m = 0.3;
+  const SonarCone cone;
+  EXPECT_NEAR(sim->SonarEchoAt(kStart, front, cone), 2.69, 1e-3);
+  sim->SetVelocity(0.5, 0.0);
+  const float later = sim->SonarEchoAt(kStart + FromSeconds(2), front, cone);
+  const RobotState s = sim->StateAt(kStart + FromSeconds(2));
+  EXPECT_NEAR(later, 2.69 - s.world_from_base.x_m, 1e-3);
+  EXPECT_GT(s.world_from_base.x_m, 0.5);
+}
+
 TEST(SimWorldTest, ScanIsStampedAndComesWithItsTruth) {
   auto sim = MakeWorld("wall { x0_m: 3 y0_m: -20 x1_m: 3 y1_m: 20 }");
   sim->SetVelocity(0.5, 0.0);
