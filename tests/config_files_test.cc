@@ -11,6 +11,7 @@
 #include "common/config/config_loader.h"
 #include "common/math/calibration_io.h"
 #include "operator_client/client_config.pb.h"
+#include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/camera/camera_config.pb.h"
 #include "robot_server/camera/camera_factory.h"
 #include "robot_server/drive/drive_config.h"
@@ -109,6 +110,34 @@ TEST(ShippedConfigTest, UnknownFileNamesAreRefused) {
   std::string error;
   EXPECT_FALSE(LoadShippedConfig("mystery.pbtxt", "/dev/null", &error));
   EXPECT_NE(error.find("no schema"), std::string::npos);
+}
+
+// client_thesis.pbtxt: the thesis' algorithm with every extension off (docs/vision.md).
+TEST(ShippedConfigTest, ThesisClientTurnsEveryExtensionOff) {
+  const std::string dir = std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/config";
+  client::ClientConfig c;
+  std::string error;
+  ASSERT_TRUE(LoadTextConfig(dir + "/client_thesis.pbtxt", &c, &error)) << error;
+  EXPECT_FALSE(c.intrinsics_from_robot());
+  math::LaserCameraCalibration calibration;
+  ASSERT_TRUE(
+      math::LoadCalibrationProfile(dir + "/" + c.calibration_profile(), &calibration, &error))
+      << error;
+  EXPECT_TRUE(calibration.distortion.IsZero());
+  EXPECT_FALSE(calibration.principal_x_px.has_value() || calibration.principal_y_px.has_value() ||
+               calibration.focal_y_px.has_value());
+  const vision::VisionOptions v = vision::FromProto(c.vision());
+  ASSERT_TRUE(v.IsValid(&error)) << error;
+  EXPECT_EQ(v.nearest_edge.base_search_m, 0.0);
+  EXPECT_EQ(v.nearest_edge.min_step_grey, 0);
+  EXPECT_EQ(v.nearest_edge.lateral_tolerance_px, 0);
+  EXPECT_EQ(v.classifier.min_threshold_px, 0.0);
+  EXPECT_EQ(v.nesc.min_threshold_px, 0.0);
+  EXPECT_EQ(v.classifier.neighbour_beams, 0);
+  EXPECT_EQ(v.classifier.min_obstacle_beams, 1);
+  EXPECT_TRUE(v.stereo);
+  EXPECT_DOUBLE_EQ(v.classifier.edge_threshold_m, 0.10);
+  EXPECT_DOUBLE_EQ(v.nesc.stereo_threshold_m, 0.5 * v.classifier.edge_threshold_m);
 }
 
 }  // namespace

@@ -91,4 +91,65 @@ bool SaveCalibrationProfile(const std::string& path, const LaserCameraCalibratio
   return SaveTextConfig(path, ToProto(calibration, name), error);
 }
 
+bool StereoAlignmentProfile::operator==(const StereoAlignmentProfile& other) const {
+  return per_eye_intrinsics == other.per_eye_intrinsics &&
+         right_offset_x_px == other.right_offset_x_px &&
+         right_offset_y_px == other.right_offset_y_px && crop_left_px == other.crop_left_px &&
+         crop_right_px == other.crop_right_px && crop_top_px == other.crop_top_px &&
+         crop_bottom_px == other.crop_bottom_px;
+}
+
+proto::StereoAlignment ToProto(const StereoAlignmentProfile& alignment) {
+  proto::StereoAlignment message;
+  message.set_model(alignment.per_eye_intrinsics ? proto::StereoAlignment::PER_EYE_INTRINSICS
+                                                 : proto::StereoAlignment::SHARED);
+  message.set_right_offset_x_px(alignment.right_offset_x_px);
+  message.set_right_offset_y_px(alignment.right_offset_y_px);
+  message.set_crop_left_px(alignment.crop_left_px);
+  message.set_crop_right_px(alignment.crop_right_px);
+  message.set_crop_top_px(alignment.crop_top_px);
+  message.set_crop_bottom_px(alignment.crop_bottom_px);
+  return message;
+}
+
+StereoAlignmentProfile FromProto(const proto::StereoAlignment& message) {
+  StereoAlignmentProfile alignment;
+  alignment.per_eye_intrinsics = message.model() == proto::StereoAlignment::PER_EYE_INTRINSICS;
+  alignment.right_offset_x_px = message.right_offset_x_px();
+  alignment.right_offset_y_px = message.right_offset_y_px();
+  alignment.crop_left_px = message.crop_left_px();
+  alignment.crop_right_px = message.crop_right_px();
+  alignment.crop_top_px = message.crop_top_px();
+  alignment.crop_bottom_px = message.crop_bottom_px();
+  return alignment;
+}
+
+bool LoadCalibrationProfile(const std::string& path, LaserCameraCalibration* calibration,
+                            StereoAlignmentProfile* alignment, std::string* error) {
+  proto::LaserCameraCalibration message;
+  if (!LoadTextConfig(path, &message, error)) return false;
+  LaserCameraCalibration loaded;
+  std::string reason;
+  if (!FromProto(message, &loaded, &reason)) {
+    if (error != nullptr) *error = path + ": " + reason;
+    return false;
+  }
+  *calibration = loaded;
+  *alignment = FromProto(message.stereo_alignment());
+  return true;
+}
+
+bool SaveCalibrationProfile(const std::string& path, const LaserCameraCalibration& calibration,
+                            const StereoAlignmentProfile& alignment, const std::string& name,
+                            std::string* error) {
+  std::string reason;
+  if (!calibration.IsValid(&reason)) {
+    if (error != nullptr) *error = path + ": refusing to save an invalid calibration: " + reason;
+    return false;
+  }
+  proto::LaserCameraCalibration message = ToProto(calibration, name);
+  *message.mutable_stereo_alignment() = ToProto(alignment);
+  return SaveTextConfig(path, message, error);
+}
+
 }  // namespace mostar::math

@@ -27,4 +27,29 @@ bool LoadCalibrationProfile(const std::string& path, LaserCameraCalibration* cal
 bool SaveCalibrationProfile(const std::string& path, const LaserCameraCalibration& calibration,
                             const std::string& name, std::string* error);
 
+// The stereo alignment a profile may carry beside the calibration (calibration.proto,
+// StereoAlignment): pixels of the displayed images.
+struct StereoAlignmentProfile {
+  bool per_eye_intrinsics = false;  // false: the thesis' shared-parameter model
+  double right_offset_x_px = 0.0;   // +x right
+  double right_offset_y_px = 0.0;   // +y down
+  double crop_left_px = 0.0;        // >= 0, both eyes
+  double crop_right_px = 0.0;
+  double crop_top_px = 0.0;
+  double crop_bottom_px = 0.0;
+
+  bool operator==(const StereoAlignmentProfile& other) const;
+};
+
+proto::StereoAlignment ToProto(const StereoAlignmentProfile& alignment);
+StereoAlignmentProfile FromProto(const proto::StereoAlignment& message);
+
+// Both from one profile file: `alignment` is the default (no shift, no crop) when the file has
+// none. Nothing is changed on failure.
+bool LoadCalibrationProfile(const std::string& path, LaserCameraCalibration* calibration,
+                            StereoAlignmentProfile* alignment, std::string* error);
+bool SaveCalibrationProfile(const std::string& path, const LaserCameraCalibration& calibration,
+                            const StereoAlignmentProfile& alignment, const std::string& name,
+                            std::string* error);
+
 }  // namespace mostar::math

@@ -142,6 +142,41 @@ TEST(CalibrationIoTest, SavedProfileLoadsBack) {
   EXPECT_NE(error.find("focal_px"), std::string::npos) << error;
 }
 
+TEST(CalibrationIoTest, StereoAlignmentIsSavedBesideTheCalibration) {
+  LaserCameraCalibration calibration;
+  calibration.focal_px = 440.0;
+  StereoAlignmentProfile alignment;
+  alignment.per_eye_intrinsics = true;
+  alignment.right_offset_x_px = -1.5;
+  alignment.right_offset_y_px = -5.0;
+  alignment.crop_right_px = 1.5;
+  alignment.crop_bottom_px = 5.0;
+  const std::string path = ::testing::TempDir() + "calibration_io_test_alignment.pbtxt";
+  std::string error;
+  ASSERT_TRUE(SaveCalibrationProfile(path, calibration, alignment, "aligned", &error)) << error;
+  LaserCameraCalibration back;
+  StereoAlignmentProfile alignment_back;
+  ASSERT_TRUE(LoadCalibrationProfile(path, &back, &alignment_back, &error)) << error;
+  ExpectEqual(back, calibration);
+  EXPECT_TRUE(alignment_back == alignment);
+  // The calibration alone still loads from a profile with an alignment.
+  LaserCameraCalibration only;
+  ASSERT_TRUE(LoadCalibrationProfile(path, &only, &error)) << error;
+  ExpectEqual(only, calibration);
+  std::remove(path.c_str());
+}
+
+TEST(CalibrationIoTest, ProfileWithoutAlignmentLoadsNone) {
+  StereoAlignmentProfile alignment;
+  alignment.right_offset_y_px = 3.0;
+  LaserCameraCalibration calibration;
+  std::string error;
+  ASSERT_TRUE(LoadCalibrationProfile(SourceDir() + "/deploy/config/calibration_morduc.pbtxt",
+                                     &calibration, &alignment, &error))
+      << error;
+  EXPECT_TRUE(alignment == StereoAlignmentProfile{});
+}
+
 TEST(CalibrationIoTest, MissingFileIsAnError) {
   LaserCameraCalibration calibration;
   std::string error;

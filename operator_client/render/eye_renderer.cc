@@ -4,24 +4,46 @@ namespace mostar::render {
 
 namespace {
 
-// Full-screen quad from a vertex id; texture coordinates flip y (image row 0 at the top).
+// Full-screen quad from a vertex id.
 constexpr const char* kImageVertex = R"(#version 330 core
-uniform vec2 u_offset_ndc;
-out vec2 v_uv;
 void main() {
   vec2 corner = vec2(float((gl_VertexID & 1)), float((gl_VertexID >> 1) & 1));
-  v_uv = vec2(corner.x, 1.0 - corner.y);
-  gl_Position = vec4(corner * 2.0 - 1.0 + u_offset_ndc, 0.0, 1.0);
+  gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 }
 )";
 
+// Each displayed pixel q (u right, v down, pixel centres at integers) shows the camera-image
+// pixel image_c + f * Distort((q - display_c) / f): eye_geometry.h, WarpToImage. Texture row 0 is
+// the image's top row. Outside the camera image: black.
 constexpr const char* kImageFragment = R"(#version 330 core
 uniform sampler2D u_image;
 uniform int u_has_image;
-in vec2 v_uv;
+uniform vec2 u_size;  // framebuffer = image size, px
+uniform vec2 u_focal;
+uniform vec2 u_display_c;
+uniform vec2 u_image_c;
+uniform vec3 u_radial;      // k1, k2, k3
+uniform vec2 u_tangential;  // p1, p2
 out vec4 color;
 void main() {
-  color = u_has_image != 0 ? vec4(texture(u_image, v_uv).rgb, 1.0) : vec4(0.25, 0.25, 0.25, 1.0);
+  if (u_has_image == 0) {
+    color = vec4(0.25, 0.25, 0.25, 1.0);
+    return;
+  }
+  vec2 q = vec2(gl_FragCoord.x - 0.5, u_size.y - 0.5 - gl_FragCoord.y);
+  vec2 n = (q - u_display_c) / u_focal;
+  float r2 = dot(n, n);
+  float radial = 1.0 + r2 * (u_radial.x + r2 * (u_radial.y + r2 * u_radial.z));
+  float p1 = u_tangential.x;
+  float p2 = u_tangential.y;
+  vec2 d = vec2(n.x * radial + 2.0 * p1 * n.x * n.y + p2 * (r2 + 2.0 * n.x * n.x),
+                n.y * radial + p1 * (r2 + 2.0 * n.y * n.y) + 2.0 * p2 * n.x * n.y);
+  vec2 uv = (u_image_c + u_focal * d + 0.5) / u_size;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+    color = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+  color = vec4(texture(u_image, uv).rgb, 1.0);
 }
 )";
 
@@ -30,13 +52,10 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec4 a_color;
 uniform mat4 u_projection;
 uniform mat4 u_view;
-uniform vec2 u_offset_ndc;
 uniform float u_point_size;
 out vec4 v_color;
 void main() {
-  vec4 clip = u_projection * u_view * vec4(a_position, 1.0);
-  clip.xy += u_offset_ndc * clip.w;
-  gl_Position = clip;
+  gl_Position = u_projection * u_view * vec4(a_position, 1.0);
   gl_PointSize = u_point_size;
   v_color = a_color;
 }
@@ -49,6 +68,10 @@ void main() { color = v_color; }
 )";
 
 }  // namespace
+
+EyeView MakeEyeView(const EyeGeometry& geometry) {
+  return EyeView{geometry.display.OpenGlMatrices(0.05, 100.0), MakeImageWarp(geometry)};
+}
 
 EyeRenderer::~EyeRenderer() {
   if (color_texture_) glDeleteTextures(1, &color_texture_);
@@ -112,8 +135,7 @@ void EyeRenderer::DrawArray(const fusion::VertexArray& array, GLenum mode) {
   glDrawArrays(mode, 0, static_cast<GLsizei>(array.vertex_count()));
 }
 
-void EyeRenderer::Render(const cv::Mat& image, const Eigen::Matrix4f& projection,
-                         const Eigen::Matrix4f& view, const OverlayGeometry& overlay,
+void EyeRenderer::Render(const cv::Mat& image, const EyeView& view, const OverlayGeometry& overlay,
                          const EyeAlignment& alignment) {
   const int width = image.empty() ? std::max(width_, 640) : image.cols;
   const int height = image.empty() ? std::max(height_, 480) : image.rows;
@@ -129,10 +151,6 @@ void EyeRenderer::Render(const cv::Mat& image, const Eigen::Matrix4f& projection
   const int y0 = static_cast<int>(alignment.crop_bottom_px);
   glScissor(x0, y0, std::max(0, width - x0 - static_cast<int>(alignment.crop_right_px)),
             std::max(0, height - y0 - static_cast<int>(alignment.crop_top_px)));
-  // Image shift in NDC: +x right, +y up (image rows grow downwards).
-  const float offset_x = 2.f * alignment.offset_x_px / static_cast<float>(width);
-  const float offset_y = -2.f * alignment.offset_y_px / static_cast<float>(height);
-
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   image_program_.Use();
@@ -141,7 +159,14 @@ void EyeRenderer::Render(const cv::Mat& image, const Eigen::Matrix4f& projection
   glBindTexture(GL_TEXTURE_2D, image_texture_.id());
   glUniform1i(image_program_.Uniform("u_image"), 0);
   glUniform1i(image_program_.Uniform("u_has_image"), image.empty() ? 0 : 1);
-  glUniform2f(image_program_.Uniform("u_offset_ndc"), offset_x, offset_y);
+  const ImageWarp& w = view.warp;
+  glUniform2f(image_program_.Uniform("u_size"), static_cast<float>(width),
+              static_cast<float>(height));
+  glUniform2f(image_program_.Uniform("u_focal"), w.fx, w.fy);
+  glUniform2f(image_program_.Uniform("u_display_c"), w.display_cx, w.display_cy);
+  glUniform2f(image_program_.Uniform("u_image_c"), w.image_cx, w.image_cy);
+  glUniform3f(image_program_.Uniform("u_radial"), w.k1, w.k2, w.k3);
+  glUniform2f(image_program_.Uniform("u_tangential"), w.p1, w.p2);
   glBindVertexArray(quad_vao_);
   glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 
@@ -150,9 +175,9 @@ void EyeRenderer::Render(const cv::Mat& image, const Eigen::Matrix4f& projection
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glEnable(GL_PROGRAM_POINT_SIZE);
   overlay_program_.Use();
-  glUniformMatrix4fv(overlay_program_.Uniform("u_projection"), 1, GL_FALSE, projection.data());
-  glUniformMatrix4fv(overlay_program_.Uniform("u_view"), 1, GL_FALSE, view.data());
-  glUniform2f(overlay_program_.Uniform("u_offset_ndc"), offset_x, offset_y);
+  glUniformMatrix4fv(overlay_program_.Uniform("u_projection"), 1, GL_FALSE,
+                     view.matrices.projection.data());
+  glUniformMatrix4fv(overlay_program_.Uniform("u_view"), 1, GL_FALSE, view.matrices.view.data());
   glUniform1f(overlay_program_.Uniform("u_point_size"), overlay.point_size_px);
   glBindVertexArray(overlay_vao_);
   DrawArray(overlay.triangles, GL_TRIANGLES);

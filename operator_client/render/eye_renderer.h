@@ -2,9 +2,12 @@
 // offscreen framebuffer the size of the camera image. The stereo compositor then combines the
 // two eyes' framebuffers for the chosen display mode.
 //
-// Geometry is given in the laser frame (metres) and drawn with the projection and view matrices
-// of the eye's camera model (common/math CameraModel::OpenGlMatrices), so the overlay lands
-// where CameraModel::Project() says. Requires a current OpenGL 3.3 core context; not
+// The image is drawn through the eye's ImageWarp (eye_geometry.h): each displayed pixel samples
+// the camera image where the eye's image model sees the same ray, which removes the lens
+// distortion and applies the stereo offset in one step. Geometry is given in the laser frame
+// (metres) and drawn with the pinhole matrices of the eye's display model
+// (CameraModel::OpenGlMatrices), so a laser point lands on the displayed pixel that shows what
+// the image model's Project() says. Requires a current OpenGL 3.3 core context; not
 // thread-safe (render thread only).
 #pragma once
 
@@ -12,23 +15,22 @@
 #include <opencv2/core/mat.hpp>
 #include <string>
 
+#include "common/math/camera_model.h"
 #include "operator_client/fusion/vertex_array.h"
+#include "operator_client/render/eye_geometry.h"
 #include "operator_client/render/gl_program.h"
 #include "operator_client/render/overlay_geometry.h"
 #include "operator_client/render/texture.h"
 
 namespace mostar::render {
 
-// Stereo alignment (thesis 9.1): the eye's image is shifted by (dx, dy) pixels; parts with no
-// correspondence in the other eye are cropped (drawn black).
-struct EyeAlignment {
-  float offset_x_px = 0.f;
-  float offset_y_px = 0.f;
-  float crop_left_px = 0.f;
-  float crop_right_px = 0.f;
-  float crop_top_px = 0.f;
-  float crop_bottom_px = 0.f;
+// How one eye is drawn: the overlay's matrices and the image's warp.
+struct EyeView {
+  math::GlMatrices matrices;  // the display model's, clip 0.05..100 m
+  ImageWarp warp;
 };
+
+EyeView MakeEyeView(const EyeGeometry& geometry);
 
 class EyeRenderer {
  public:
@@ -40,9 +42,9 @@ class EyeRenderer {
   // Creates GL objects; false with a message on failure.
   bool Init(std::string* error);
   // Renders into the eye framebuffer (resized to the image). `image` BGR8 (may be empty: grey
-  // background). `projection`/`view`: the eye's GL matrices.
-  void Render(const cv::Mat& image, const Eigen::Matrix4f& projection, const Eigen::Matrix4f& view,
-              const OverlayGeometry& overlay, const EyeAlignment& alignment);
+  // background). Only the crop of `alignment` is used here (its offset is in view.warp).
+  void Render(const cv::Mat& image, const EyeView& view, const OverlayGeometry& overlay,
+              const EyeAlignment& alignment);
   GLuint texture() const { return color_texture_; }
   int width() const { return width_; }
   int height() const { return height_; }

@@ -57,11 +57,21 @@ class RenderTest : public ::testing::Test {
     return bgr;
   }
 
+  // The eye's view for `calibration` with `alignment` (shared model).
+  static EyeView View(const math::LaserCameraCalibration& calibration,
+                      const EyeAlignment& alignment = {},
+                      AlignmentModel model = AlignmentModel::kSharedModel) {
+    std::string error;
+    const std::optional<EyeGeometry> geometry =
+        MakeEyeGeometry(calibration, math::Eye::kLeft, alignment, model, &error);
+    EXPECT_TRUE(geometry.has_value()) << error;
+    return MakeEyeView(*geometry);
+  }
+
   void RenderPlainEyes(const cv::Scalar& left_bgr, const cv::Scalar& right_bgr) {
-    const math::CameraModel model(math::LaserCameraCalibration{}, math::Eye::kLeft);
-    const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
-    eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, left_bgr), m.projection, m.view, {}, {});
-    eyes_[1].Render(cv::Mat(480, 640, CV_8UC3, right_bgr), m.projection, m.view, {}, {});
+    const EyeView view = View(math::LaserCameraCalibration{});
+    eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, left_bgr), view, {}, {});
+    eyes_[1].Render(cv::Mat(480, 640, CV_8UC3, right_bgr), view, {}, {});
   }
 
   cv::Mat Compose(DisplayMode mode) {
@@ -81,7 +91,7 @@ std::string RenderTest::window_error_;
 TEST_F(RenderTest, WallBaseLandsOnTheProjectedImageRow) {
   const math::LaserCameraCalibration calibration;
   const math::CameraModel model(calibration, math::Eye::kLeft);
-  const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
+  const EyeView view = View(calibration);
   const float floor_z = static_cast<float>(-calibration.laser_height_m);
   for (const float distance_m : {1.5f, 2.5f, 4.0f}) {
     OverlayGeometry overlay;
@@ -96,8 +106,7 @@ TEST_F(RenderTest, WallBaseLandsOnTheProjectedImageRow) {
                           {distance_m, y0, z1}}) {
       overlay.triangles.Add(v[0], v[1], v[2], red);
     }
-    eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, cv::Scalar(128, 128, 128)), m.projection, m.view,
-                    overlay, {});
+    eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, cv::Scalar(128, 128, 128)), view, overlay, {});
     const cv::Mat image = ReadEye(eyes_[0]);
     const auto base = model.ProjectUndistorted(Eigen::Vector3d(distance_m, 0, z0));
     ASSERT_TRUE(base.has_value());
@@ -115,9 +124,7 @@ TEST_F(RenderTest, WallBaseLandsOnTheProjectedImageRow) {
 TEST_F(RenderTest, ImageIsShownUprightAndUnshifted) {
   cv::Mat image(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
   image.rowRange(0, 100).setTo(cv::Scalar(255, 255, 255));  // white band at the top
-  const math::CameraModel model(math::LaserCameraCalibration{}, math::Eye::kLeft);
-  const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
-  eyes_[0].Render(image, m.projection, m.view, {}, {});
+  eyes_[0].Render(image, View(math::LaserCameraCalibration{}), {}, {});
   const cv::Mat out = ReadEye(eyes_[0]);
   EXPECT_GT(out.at<cv::Vec3b>(50, 320)[0], 200);
   EXPECT_LT(out.at<cv::Vec3b>(300, 320)[0], 50);
@@ -179,12 +186,10 @@ TEST_F(RenderTest, QuadBufferFallsBackToLeftEyeWithoutStereoContext) {
 
 TEST_F(RenderTest, AlignmentShiftsAndCrops) {
   cv::Mat image(480, 640, CV_8UC3, cv::Scalar(255, 255, 255));
-  const math::CameraModel model(math::LaserCameraCalibration{}, math::Eye::kLeft);
-  const math::GlMatrices m = model.OpenGlMatrices(0.05, 100);
   EyeAlignment alignment;
   alignment.offset_x_px = 20;
   alignment.crop_left_px = 20;
-  eyes_[0].Render(image, m.projection, m.view, {}, alignment);
+  eyes_[0].Render(image, View(math::LaserCameraCalibration{}, alignment), {}, alignment);
   const cv::Mat out = ReadEye(eyes_[0]);
   EXPECT_LT(out.at<cv::Vec3b>(240, 10)[0], 15);   // cropped
   EXPECT_GT(out.at<cv::Vec3b>(240, 30)[0], 240);  // shifted image

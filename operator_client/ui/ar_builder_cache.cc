@@ -43,6 +43,15 @@ bool SameArOptions(const fusion::ArFeatureOptions& a, const fusion::ArFeatureOpt
          a.label_count == b.label_count && a.label_height_m == b.label_height_m;
 }
 
+std::vector<bool> PotentialOutliers(const fusion::ArFeatureBuilder& builder,
+                                    const LaserScan& scan) {
+  const fusion::ArFeatures features = builder.Build(scan);
+  std::vector<bool> labels;
+  labels.reserve(features.points.size());
+  for (const fusion::ScanPointLabel& p : features.points) labels.push_back(p.potential_outlier);
+  return labels;
+}
+
 ArBuilderCache::ArBuilderCache(const fusion::ArFeatureOptions& configured)
     : configured_(configured) {}
 

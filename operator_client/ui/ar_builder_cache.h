@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "operator_client/fusion/ar_features.h"
 
@@ -16,6 +17,11 @@ fusion::ArFeatureOptions OverlayArOptions(const fusion::ArFeatureOptions& ar, do
 
 // Field-by-field equality (ArFeatureOptions has no operator==).
 bool SameArOptions(const fusion::ArFeatureOptions& a, const fusion::ArFeatureOptions& b);
+
+// The potential-outlier label of each beam (thesis 6.2) as `builder` segments `scan`: the labels
+// edge processing confirms or not (thesis 8.4). The console takes them from the overlay's
+// builder, so a live slopeTh edit moves them together with the drawn discontinuities.
+std::vector<bool> PotentialOutliers(const fusion::ArFeatureBuilder& builder, const LaserScan& scan);
 
 class ArBuilderCache {
  public:

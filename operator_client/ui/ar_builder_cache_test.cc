@@ -2,8 +2,29 @@
 
 #include <gtest/gtest.h>
 
+#include "operator_client/fusion/test_scenes.h"
+
 namespace mostar::ui {
 namespace {
+
+// A live slopeTh edit changes the potential outliers handed to edge processing, not only the
+// drawn discontinuities: both come from the cache's builder.
+TEST(ArBuilderCacheTest, OutlierLabelsFollowTheLiveSlopeThreshold) {
+  fusion::testing::Scene wall;
+  wall.segments.push_back({3.0, -6.0, 3.0, 6.0});
+  LaserScan scan = fusion::testing::MakeScan(wall, 181);
+  scan.ranges_m[90] *= 0.93f;  // one point 7 % nearer than the wall
+  fusion::ArFeatureOptions options;
+  ArBuilderCache cache(options);
+  std::string error;
+  options.segmentation.slope_threshold = 0.005f;
+  EXPECT_TRUE(PotentialOutliers(cache.For(options, &error), scan)[90]);
+  options.segmentation.slope_threshold = 2.0f;
+  const std::vector<bool> relaxed = PotentialOutliers(cache.For(options, &error), scan);
+  ASSERT_EQ(relaxed.size(), scan.ranges_m.size());
+  EXPECT_FALSE(relaxed[90]);
+  EXPECT_TRUE(error.empty()) << error;
+}
 
 TEST(ArBuilderCacheTest, BuildsOncePerChangeOfOptions) {
   fusion::ArFeatureOptions options;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/check/check.h"
 #include "common/log/log.h"
 #include "common/math/calibration_io.h"
 #include "common/stats/percentile.h"
@@ -34,9 +35,20 @@ bool OperatorConsole::Init(std::string* error) {
   if (!options_.ar.IsValid(error)) return false;
   ar_builders_.emplace(options_.ar);
   if (!options_.calibration.IsValid(error)) return false;
+  // The stereo alignment saved beside the calibration in its profile.
+  if (!options_.calibration_path.empty()) {
+    math::LaserCameraCalibration calibration;
+    math::StereoAlignmentProfile alignment;
+    std::string why;
+    if (math::LoadCalibrationProfile(options_.calibration_path, &calibration, &alignment, &why)) {
+      render::FromProfile(alignment, &options_.alignment_model, &options_.left_alignment,
+                          &options_.right_alignment);
+    }
+  }
   imgui_ = std::make_unique<ImGuiLayer>(window_->get());
   if (!options_.vision.IsValid(error)) return false;
   edge_worker_ = std::make_unique<vision::EdgeWorker>(options_.vision);
+  vision_settings_.emplace(options_.vision);
   return true;
 }
 
@@ -100,17 +112,59 @@ std::optional<client::DecodedStereoPair> OperatorConsole::CaptureFilter(
                           clock_->SteadyNow());
 }
 
+math::LaserCameraCalibration OperatorConsole::EyeCalibration(math::Eye eye,
+                                                             const client::RobotSnapshot& robot) {
+  if (options_.alignment_model != render::AlignmentModel::kPerEyeIntrinsics ||
+      eye != math::Eye::kRight || !options_.intrinsics_from_robot || !robot.right_intrinsics) {
+    return options_.calibration;
+  }
+  math::LaserCameraCalibration right;
+  std::string error;
+  if (!WithRobotIntrinsics(options_.calibration, *robot.right_intrinsics, &right, &error)) {
+    return options_.calibration;
+  }
+  return right;
+}
+
+void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
+  const math::LaserCameraCalibration calibrations[2] = {EyeCalibration(math::Eye::kLeft, robot),
+                                                        EyeCalibration(math::Eye::kRight, robot)};
+  std::string key = math::ToProto(calibrations[0]).SerializeAsString() + "|" +
+                    math::ToProto(calibrations[1]).SerializeAsString() + "|" +
+                    render::AlignmentModelName(options_.alignment_model);
+  for (const render::EyeAlignment& a : {options_.left_alignment, options_.right_alignment}) {
+    key += "|" + std::to_string(a.offset_x_px) + "," + std::to_string(a.offset_y_px);
+  }
+  if (key == geometry_key_ && geometry_[0] && geometry_[1]) return;
+  std::optional<render::EyeGeometry> next[2];
+  for (int e = 0; e < 2; ++e) {
+    std::string error;
+    next[e] =
+        render::MakeEyeGeometry(calibrations[e], e == 0 ? math::Eye::kLeft : math::Eye::kRight,
+                                e == 0 ? options_.left_alignment : options_.right_alignment,
+                                options_.alignment_model, &error);
+    if (!next[e]) {
+      status_line_ = "alignment: " + error;
+      if (geometry_[0] && geometry_[1]) return;
+      // Nothing to keep yet: the calibration without offsets (valid, checked in Init).
+      next[e] =
+          render::MakeEyeGeometry(calibrations[e], e == 0 ? math::Eye::kLeft : math::Eye::kRight,
+                                  {}, options_.alignment_model, &error);
+      MOSTAR_CHECK(next[e].has_value()) << error;
+    }
+  }
+  geometry_key_ = key;
+  hint_gate_.GeometryChanged(last_submitted_);
+  geometry_[0] = next[0];
+  geometry_[1] = next[1];
+  left_model_ = std::make_shared<const math::CameraModel>(geometry_[0]->image);
+  right_model_ = std::make_shared<const math::CameraModel>(geometry_[1]->image);
+}
+
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
   if (!options_.vision_enabled) {
     picker_.ShowUnprocessed(latest);
     return;
-  }
-  if (!left_model_ || math::ToProto(models_calibration_).SerializeAsString() !=
-                          math::ToProto(options_.calibration).SerializeAsString()) {
-    models_calibration_ = options_.calibration;
-    left_model_ = std::make_shared<const math::CameraModel>(options_.calibration, math::Eye::kLeft);
-    right_model_ =
-        std::make_shared<const math::CameraModel>(options_.calibration, math::Eye::kRight);
   }
   if (picker_.TakeNew(latest)) {
     vision::VisionInput input;
@@ -122,13 +176,11 @@ void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair
       input.scan = *scan;
       // The overlay's builder: a live slopeTh edit moves the outliers the edges check too.
       std::string error;
-      const fusion::ArFeatures features = OverlayBuilder(&error).Build(*scan);
-      for (const fusion::ScanPointLabel& p : features.points) {
-        input.potential_outliers.push_back(p.potential_outlier);
-      }
+      input.potential_outliers = PotentialOutliers(OverlayBuilder(&error), *scan);
     }
     input.left_camera = left_model_;
     input.right_camera = right_model_;
+    last_submitted_ = input.sequence;
     edge_worker_->Submit(std::move(input));
   }
   picker_.OnResult(edge_worker_->LatestResult(), latest);
@@ -167,6 +219,7 @@ bool OperatorConsole::Frame() {
     const client::RobotSnapshot snapshot = robot_->Snapshot();
     Send(lease_.Update(snapshot.lease, clock_->SteadyNow()));
     AdoptRobotIntrinsics(snapshot);
+    RefreshGeometry(snapshot);
   }
   HandleInput();
   UpdateVision(CaptureFilter(video_->Latest()));
@@ -192,12 +245,9 @@ bool OperatorConsole::Frame() {
   BuildOverlay(scan, &overlay, &features);
 
   for (int e = 0; e < 2; ++e) {
-    const math::CameraModel model(options_.calibration,
-                                  e == 0 ? math::Eye::kLeft : math::Eye::kRight);
-    const math::GlMatrices m = model.OpenGlMatrices(0.05, 100.0);
     static const cv::Mat kEmpty;
     const cv::Mat& image = pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
-    eyes_[e].Render(image, m.projection, m.view, overlay,
+    eyes_[e].Render(image, render::MakeEyeView(*geometry_[e]), overlay,
                     e == 0 ? options_.left_alignment : options_.right_alignment);
   }
   int fb_w = 0;
@@ -233,12 +283,23 @@ double OperatorConsole::FrameTimePercentileMs(double percentile) const {
   return Percentile(frame_times_ms_, percentile / 100.0).value_or(0.0);
 }
 
+std::optional<StereoOffsetHint> OperatorConsole::OffsetHint() const {
+  const std::shared_ptr<const vision::VisionResult>& result = picker_.shown_result();
+  if (!result || !result->ok || !result->stereo) return std::nullopt;
+  const vision::StereoOffsetEstimate& estimate = result->nesc.offset;
+  return hint_gate_.Hint(
+      result->sequence, estimate,
+      render::SuggestedRightOffsetY(*geometry_[0], *geometry_[1], options_.left_alignment,
+                                    estimate.vertical_offset_px));
+}
+
 void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
                                  const fusion::ArFeatures& features,
                                  const std::optional<client::DecodedStereoPair>& pair, int fb_w,
                                  int fb_h) {
   if (options_.ar.labels_enabled) {
-    DrawLabelsPanel(features, options_.calibration, options_.mode, fb_w, fb_h);
+    DrawLabelsPanel(features, geometry_[0]->display, geometry_[1]->display, options_.mode, fb_w,
+                    fb_h);
   }
   if (options_.show_hud) {
     HudStatus hud;
@@ -257,18 +318,21 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
   }
   if (options_.show_map) DrawMapPanel(features);
   if (options_.show_calibration_panel) {
-    DrawCalibrationPanel(
-        options_.calibration_path,
-        {&options_.show_calibration_panel, &options_.calibration, &options_.ar,
-         &options_.left_alignment, &options_.right_alignment, &options_.mode, &status_line_});
+    DrawCalibrationPanel(options_.calibration_path,
+                         {&options_.show_calibration_panel, &options_.calibration, &options_.ar,
+                          &options_.left_alignment, &options_.right_alignment,
+                          &options_.alignment_model, &options_.mode, &status_line_},
+                         OffsetHint());
   }
   if (show_edge_view_) {
-    const std::optional<vision::VisionOptions> next = edge_view_.Draw(
-        picker_.shown_result().get(), &options_.vision, &show_edge_view_, &options_.vision_enabled);
+    const std::optional<VisionSettings> next =
+        edge_view_.Draw(picker_.shown_result().get(), *vision_settings_,
+                        VisionSettingsPath(options_.calibration_path), &show_edge_view_,
+                        &options_.vision_enabled, &status_line_);
     std::string error;
-    if (next && edge_worker_->SetOptions(*next, &error)) {
-      options_.vision = *next;
-      status_line_.clear();
+    if (next && edge_worker_->SetOptions(next->options(), &error)) {
+      vision_settings_ = next;
+      options_.vision = next->options();
     } else if (next) {
       status_line_ = "edges: " + error;
     }

@@ -29,6 +29,8 @@
 #include "operator_client/ui/lease_client.h"
 #include "operator_client/ui/pair_capture.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
+#include "operator_client/ui/stereo_hint.h"
+#include "operator_client/ui/vision_settings.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/video/stereo_receiver.h"
 #include "operator_client/vision/edge_worker.h"
@@ -57,6 +59,10 @@ struct ConsoleOptions {
   vision::VisionOptions vision;
   render::EyeAlignment left_alignment;  // thesis 9.1 stereo alignment (image offsets, crop)
   render::EyeAlignment right_alignment;
+  // What `calibration` describes (render/eye_geometry.h): the displayed, aligned images with
+  // parameters shared by both eyes (the thesis), or each camera's own image (the right eye then
+  // takes the robot's right intrinsics when it publishes them).
+  render::AlignmentModel alignment_model = render::AlignmentModel::kSharedModel;
 };
 
 class OperatorConsole {
@@ -97,6 +103,12 @@ class OperatorConsole {
   // While capturing: the captured pair once it may be shown, else nothing.
   std::optional<client::DecodedStereoPair> CaptureFilter(
       const std::optional<client::DecodedStereoPair>& latest);
+  // The calibration of one eye: the shared one, or with per-eye intrinsics the right eye's own
+  // intrinsics from the robot when it publishes valid ones.
+  math::LaserCameraCalibration EyeCalibration(math::Eye eye, const client::RobotSnapshot& robot);
+  // Rebuilds both eyes' geometry when the calibration, the alignment or its model changed; an
+  // invalid combination keeps the previous geometry and says why on the status line.
+  void RefreshGeometry(const client::RobotSnapshot& robot);
   // Hands the new pair to the edge worker and picks the pair (and result) to display.
   void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
   // The AR builder of the overlay's current options (the configured one, with `error`, when
@@ -104,6 +116,8 @@ class OperatorConsole {
   const fusion::ArFeatureBuilder& OverlayBuilder(std::string* error);
   void BuildOverlay(const std::optional<LaserScan>& scan, render::OverlayGeometry* overlay,
                     fusion::ArFeatures* features);
+  // NESC's vertical offset suggestion from the shown edge result, when current.
+  std::optional<StereoOffsetHint> OffsetHint() const;
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,
                   const std::optional<client::DecodedStereoPair>& pair, int fb_w, int fb_h);
 
@@ -125,13 +139,18 @@ class OperatorConsole {
   IntrinsicsAdopter intrinsics_;
 
   std::unique_ptr<vision::EdgeWorker> edge_worker_;
-  // Camera models shared with the edge worker (its ray cache) until the calibration changes.
+  // Each eye's image and display models (eye_geometry.h); the image models are shared with the
+  // edge worker (its ray cache) until the geometry changes.
+  std::optional<render::EyeGeometry> geometry_[2];
   std::shared_ptr<const math::CameraModel> left_model_;
   std::shared_ptr<const math::CameraModel> right_model_;
-  math::LaserCameraCalibration models_calibration_;
+  std::string geometry_key_;
+  uint64_t last_submitted_ = 0;  // sequence of the last pair handed to the edge worker
+  StereoHintGate hint_gate_;
   FramePicker picker_;
   std::optional<PairCapture> capture_;
 
+  std::optional<VisionSettings> vision_settings_;  // from Init(); = options_.vision
   EdgeViewPanel edge_view_;
   bool show_edge_view_ = false;
   bool show_help_ = false;

@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "common/config/config_loader.h"
 #include "common/stats/percentile.h"
+#include "operator_client/client_config.pb.h"
 #include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/sim/sim_world.h"
 #include "tests/vision/sim_calibration.h"
@@ -95,9 +97,22 @@ int Run(int argc, char** argv) {
   app.add_option("--right_vertical_offset_px", right_vertical_offset_px,
                  "right principal point shift unknown to the calibration");
   app.add_option("--images_out", images_out, "directory for before/after images");
+  std::string client_config;
+  app.add_option("--client_config", client_config,
+                 "take the edge-processing options from this client configuration's vision "
+                 "(e.g. deploy/config/client_thesis.pbtxt); the per-scene stretch thresholds and "
+                 "step test stay unless the file sets them");
   app.add_flag("--below_laser_only", below_laser_only,
                "positives: only bases below the scan plane (not beams without an echo)");
   CLI11_PARSE(app, argc, argv);
+  client::ClientConfig client;
+  if (!client_config.empty()) {
+    std::string error;
+    if (!LoadTextConfig(client_config, &client, &error)) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      return 2;
+    }
+  }
 
   const std::vector<SceneCase> cases = {{"open_room", "plain", 60, 200, 0},
                                         {"corridor", "faint pattern", 30, 105, 45},
@@ -139,10 +154,15 @@ int Run(int argc, char** argv) {
     perturbed_input.left_camera = Perturbed(*input.left_camera, tilt_error_rad, height_error_m);
     perturbed_input.right_camera = Perturbed(*input.right_camera, tilt_error_rad, height_error_m);
 
-    VisionOptions options;
-    options.edges.low_threshold = scene_case.low_threshold;
-    options.edges.high_threshold = scene_case.high_threshold;
-    options.nearest_edge.min_step_grey = scene_case.min_step_grey;
+    VisionOptions options = FromProto(client.vision());
+    const proto::VisionConfig& file = client.vision();
+    if (!file.edges().has_low_threshold()) options.edges.low_threshold = scene_case.low_threshold;
+    if (!file.edges().has_high_threshold()) {
+      options.edges.high_threshold = scene_case.high_threshold;
+    }
+    if (!file.nearest_edge().has_min_step_grey()) {
+      options.nearest_edge.min_step_grey = scene_case.min_step_grey;
+    }
     VisionPipeline pipeline(options);
     VisionPipeline perturbed_pipeline(options);
     const double edge_threshold_m = options.classifier.edge_threshold_m;

@@ -59,28 +59,35 @@ void DrawCalibrationSliders(math::LaserCameraCalibration* c, std::string* status
   }
 }
 
-void DrawProfileButtons(const std::string& profile_path, math::LaserCameraCalibration* c,
-                        std::string* status_line) {
+// Save/Load write and read the calibration with the stereo alignment in one profile.
+void DrawProfileButtons(const std::string& profile_path, const CalibrationPanelTargets& edit) {
   const std::string path = profile_path.empty() ? "calibration_profile.pbtxt" : profile_path;
+  std::string* status_line = edit.status_line;
   if (ImGui::Button("Save")) {
     std::string error;
-    *status_line = math::SaveCalibrationProfile(path, *c, "operator", &error)
-                       ? "saved " + path
-                       : "save failed: " + error;
+    const math::StereoAlignmentProfile alignment =
+        render::ToProfile(*edit.alignment_model, *edit.left_alignment, *edit.right_alignment);
+    *status_line =
+        math::SaveCalibrationProfile(path, *edit.calibration, alignment, "operator", &error)
+            ? "saved " + path
+            : "save failed: " + error;
   }
   ImGui::SameLine();
   if (ImGui::Button("Load")) {
     std::string error;
     math::LaserCameraCalibration loaded;
-    if (math::LoadCalibrationProfile(path, &loaded, &error)) {
-      *c = loaded;
+    math::StereoAlignmentProfile alignment;
+    if (math::LoadCalibrationProfile(path, &loaded, &alignment, &error)) {
+      *edit.calibration = loaded;
+      render::FromProfile(alignment, edit.alignment_model, edit.left_alignment,
+                          edit.right_alignment);
       *status_line = "loaded " + path;
     } else {
       *status_line = "load failed: " + error;
     }
   }
   ImGui::SameLine();
-  if (ImGui::Button("Reset")) *c = math::LaserCameraCalibration{};
+  if (ImGui::Button("Reset")) *edit.calibration = math::LaserCameraCalibration{};
 }
 
 void DrawArSwitches(fusion::ArFeatureOptions* ar) {
@@ -100,19 +107,38 @@ void DrawArSwitches(fusion::ArFeatureOptions* ar) {
   ImGui::SliderFloat("slopeTh", &ar->segmentation.slope_threshold, 0.005f, 0.5f, "%.3f");
 }
 
-void DrawStereoAlignment(render::EyeAlignment* left, render::EyeAlignment* right) {
+void DrawStereoAlignment(const CalibrationPanelTargets& edit,
+                         const std::optional<StereoOffsetHint>& hint) {
+  render::EyeAlignment* left = edit.left_alignment;
+  render::EyeAlignment* right = edit.right_alignment;
   ImGui::Text("Stereo alignment (right eye image offset, px)");
-  ImGui::SliderFloat("dx", &right->offset_x_px, -40, 40, "%.1f");
-  ImGui::SliderFloat("dy", &right->offset_y_px, -40, 40, "%.1f");
-  // Crop the borders without correspondence in both eyes.
-  const float dx = right->offset_x_px;
-  const float dy = right->offset_y_px;
-  for (render::EyeAlignment* a : {left, right}) {
-    a->crop_left_px = dx > 0 ? dx : 0;
-    a->crop_right_px = dx < 0 ? -dx : 0;
-    a->crop_top_px = dy > 0 ? dy : 0;
-    a->crop_bottom_px = dy < 0 ? -dy : 0;
+  int model = *edit.alignment_model == render::AlignmentModel::kPerEyeIntrinsics ? 1 : 0;
+  const char* models[] = {"shared parameters (thesis)", "per-eye intrinsics"};
+  if (ImGui::Combo("model", &model, models, 2)) {
+    *edit.alignment_model = model == 1 ? render::AlignmentModel::kPerEyeIntrinsics
+                                       : render::AlignmentModel::kSharedModel;
   }
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip(
+        "Shared: the calibration describes the aligned images; the offset moves the right "
+        "image under its overlay. Per-eye: each eye's intrinsics describe its own camera; the "
+        "overlay moves with its image.");
+  }
+  float dx = right->offset_x_px;
+  float dy = right->offset_y_px;
+  ImGui::SliderFloat("dx", &dx, -40, 40, "%.1f");
+  ImGui::SliderFloat("dy", &dy, -40, 40, "%.1f");
+  if (hint) {
+    ImGui::Text("NESC: right image %.1f px %s (spread %.1f px, %d edges): dy %.1f",
+                std::abs(hint->residual_px), hint->residual_px > 0 ? "low" : "high",
+                hint->spread_px, hint->samples, hint->suggested_right_offset_y_px);
+    ImGui::SameLine();
+    if (ImGui::Button("Apply")) dy = hint->suggested_right_offset_y_px;
+  } else {
+    ImGui::TextDisabled("NESC: no vertical offset measured yet (edges on, both eyes)");
+  }
+  // Crop the borders without correspondence in both eyes.
+  render::CropForRightOffset(dx, dy, left, right);
 }
 
 void DrawDisplayMode(render::DisplayMode* mode) {
@@ -129,7 +155,8 @@ void DrawDisplayMode(render::DisplayMode* mode) {
 
 }  // namespace
 
-void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPanelTargets& edit) {
+void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPanelTargets& edit,
+                          const std::optional<StereoOffsetHint>& hint) {
   ImGui::SetNextWindowPos(ImVec2(8, 190), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
   ImGui::Begin("Calibration", edit.open);
@@ -137,11 +164,11 @@ void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPane
       "Order: 1 focal on far objects, 2 y and tilt on the floor, 3 z on near objects, "
       "4 x last. Rays and lines are shown while this panel is open.");
   DrawCalibrationSliders(edit.calibration, edit.status_line);
-  DrawProfileButtons(profile_path, edit.calibration, edit.status_line);
+  DrawProfileButtons(profile_path, edit);
   ImGui::Separator();
   DrawArSwitches(edit.ar);
   ImGui::Separator();
-  DrawStereoAlignment(edit.left_alignment, edit.right_alignment);
+  DrawStereoAlignment(edit, hint);
   DrawDisplayMode(edit.mode);
   ImGui::End();
 }

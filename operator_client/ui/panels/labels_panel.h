@@ -10,8 +10,10 @@ namespace mostar::ui {
 
 // Eyes are placed by render::EyeViewports(mode, framebuffer_w, framebuffer_h); where both
 // eyes share one rectangle (anaglyphs, interlaced, quad buffer) the labels follow the first.
-void DrawLabelsPanel(const fusion::ArFeatures& features,
-                     const math::LaserCameraCalibration& calibration, render::DisplayMode mode,
+// `left_display`/`right_display`: each eye's display model (render/eye_geometry.h); the
+// displayed image has no lens distortion, so labels sit at its pinhole projection.
+void DrawLabelsPanel(const fusion::ArFeatures& features, const math::CameraModel& left_display,
+                     const math::CameraModel& right_display, render::DisplayMode mode,
                      int framebuffer_w, int framebuffer_h);
 
 }  // namespace mostar::ui

@@ -1,0 +1,130 @@
+#include "operator_client/render/eye_geometry.h"
+
+#include <gtest/gtest.h>
+
+namespace mostar::render {
+namespace {
+
+math::LaserCameraCalibration Distorted() {
+  math::LaserCameraCalibration c;
+  c.focal_px = 440;
+  c.distortion.k1 = -0.28;
+  c.distortion.k2 = 0.07;
+  c.distortion.p1 = 0.001;
+  c.distortion.p2 = -0.0005;
+  return c;
+}
+
+EyeGeometry Make(const math::LaserCameraCalibration& c, math::Eye eye, float dx, float dy,
+                 AlignmentModel model) {
+  EyeAlignment alignment;
+  alignment.offset_x_px = dx;
+  alignment.offset_y_px = dy;
+  std::string error;
+  const std::optional<EyeGeometry> g = MakeEyeGeometry(c, eye, alignment, model, &error);
+  EXPECT_TRUE(g.has_value()) << error;
+  return *g;
+}
+
+// The displayed pixel of a laser point shows what the camera image has at image.Project().
+TEST(EyeGeometryTest, DisplayedPixelShowsTheImageModelsProjection) {
+  for (const AlignmentModel model :
+       {AlignmentModel::kSharedModel, AlignmentModel::kPerEyeIntrinsics}) {
+    for (const math::Eye eye : {math::Eye::kLeft, math::Eye::kRight}) {
+      const EyeGeometry g = Make(Distorted(), eye, 3.5f, -5.f, model);
+      const ImageWarp warp = MakeImageWarp(g);
+      for (double x = 1.0; x <= 6.0; x += 1.0) {
+        for (double y = -2.0; y <= 2.0; y += 0.5) {
+          const Eigen::Vector3d p(x, y, -0.4);
+          const auto shown = g.display.ProjectUndistorted(p);
+          const auto seen = g.image.Project(p);
+          if (!shown || !seen || !g.image.IsInImage(*seen)) continue;
+          EXPECT_LT((WarpToImage(warp, *shown) - *seen).norm(), 1e-3)
+              << AlignmentModelName(model) << " " << x << " " << y;
+        }
+      }
+    }
+  }
+}
+
+TEST(EyeGeometryTest, SharedModelKeepsTheOverlayAndMovesTheImageModel) {
+  const math::LaserCameraCalibration c = Distorted();
+  const EyeGeometry g = Make(c, math::Eye::kRight, 2.f, -5.f, AlignmentModel::kSharedModel);
+  EXPECT_DOUBLE_EQ(g.display.calibration().cx(), c.cx());
+  EXPECT_DOUBLE_EQ(g.display.calibration().cy(), c.cy());
+  EXPECT_DOUBLE_EQ(g.image.calibration().cx(), c.cx() - 2.0);
+  EXPECT_DOUBLE_EQ(g.image.calibration().cy(), c.cy() + 5.0);
+}
+
+TEST(EyeGeometryTest, PerEyeIntrinsicsMoveTheOverlayWithTheImage) {
+  const math::LaserCameraCalibration c = Distorted();
+  const EyeGeometry g = Make(c, math::Eye::kRight, 2.f, -5.f, AlignmentModel::kPerEyeIntrinsics);
+  EXPECT_DOUBLE_EQ(g.image.calibration().cx(), c.cx());
+  EXPECT_DOUBLE_EQ(g.image.calibration().cy(), c.cy());
+  EXPECT_DOUBLE_EQ(g.display.calibration().cx(), c.cx() + 2.0);
+  EXPECT_DOUBLE_EQ(g.display.calibration().cy(), c.cy() - 5.0);
+}
+
+TEST(EyeGeometryTest, WithoutDistortionTheWarpIsTheOffset) {
+  const EyeGeometry g = Make(math::LaserCameraCalibration{}, math::Eye::kLeft, 7.f, 4.f,
+                             AlignmentModel::kSharedModel);
+  const Eigen::Vector2d q(100.25, 300.5);
+  EXPECT_LT((WarpToImage(MakeImageWarp(g), q) - (q - Eigen::Vector2d(7, 4))).norm(), 1e-4);
+}
+
+TEST(EyeGeometryTest, RefusesAnOffsetThatLeavesTheImage) {
+  EyeAlignment alignment;
+  alignment.offset_x_px = 1000.f;
+  std::string error;
+  EXPECT_FALSE(MakeEyeGeometry(math::LaserCameraCalibration{}, math::Eye::kRight, alignment,
+                               AlignmentModel::kSharedModel, &error));
+  EXPECT_NE(error.find("stereo offset"), std::string::npos) << error;
+}
+
+TEST(EyeGeometryTest, CropKeepsWhatBothEyesShow) {
+  EyeAlignment left, right;
+  CropForRightOffset(-4.f, 6.f, &left, &right);
+  EXPECT_EQ(right.offset_x_px, -4.f);
+  EXPECT_EQ(right.offset_y_px, 6.f);
+  EXPECT_EQ(left.offset_x_px, 0.f);
+  for (const EyeAlignment& a : {left, right}) {
+    EXPECT_EQ(a.crop_right_px, 4.f);
+    EXPECT_EQ(a.crop_left_px, 0.f);
+    EXPECT_EQ(a.crop_top_px, 6.f);
+    EXPECT_EQ(a.crop_bottom_px, 0.f);
+  }
+}
+
+TEST(EyeGeometryTest, SuggestedOffsetCancelsTheResidualInBothModels) {
+  // Shared model: the right image model moves with the offset, so the residual is what is left.
+  const math::LaserCameraCalibration c = Distorted();
+  const EyeGeometry left = Make(c, math::Eye::kLeft, 0.f, 0.f, AlignmentModel::kSharedModel);
+  const EyeGeometry right = Make(c, math::Eye::kRight, 0.f, -2.f, AlignmentModel::kSharedModel);
+  EXPECT_FLOAT_EQ(SuggestedRightOffsetY(left, right, {}, 3.f), -5.f);
+  // Per-eye intrinsics: the right camera's principal row is 5 px lower and its model knows it.
+  math::LaserCameraCalibration low = c;
+  low.principal_y_px = c.cy() + 5.0;
+  const EyeGeometry left_own =
+      Make(c, math::Eye::kLeft, 0.f, 0.f, AlignmentModel::kPerEyeIntrinsics);
+  const EyeGeometry right_own =
+      Make(low, math::Eye::kRight, 0.f, 0.f, AlignmentModel::kPerEyeIntrinsics);
+  EXPECT_FLOAT_EQ(SuggestedRightOffsetY(left_own, right_own, {}, 0.0), -5.f);
+}
+
+TEST(EyeGeometryTest, ProfileRoundTrip) {
+  EyeAlignment left, right;
+  CropForRightOffset(1.5f, -5.f, &left, &right);
+  const math::StereoAlignmentProfile profile =
+      ToProfile(AlignmentModel::kPerEyeIntrinsics, left, right);
+  EXPECT_TRUE(profile.per_eye_intrinsics);
+  EXPECT_EQ(profile.right_offset_y_px, -5.0);
+  AlignmentModel model = AlignmentModel::kSharedModel;
+  EyeAlignment left_back, right_back;
+  FromProfile(profile, &model, &left_back, &right_back);
+  EXPECT_EQ(model, AlignmentModel::kPerEyeIntrinsics);
+  EXPECT_TRUE(left_back == left);
+  EXPECT_TRUE(right_back == right);
+}
+
+}  // namespace
+}  // namespace mostar::render
