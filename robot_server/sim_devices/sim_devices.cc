@@ -1,7 +1,11 @@
 #include "robot_server/sim_devices/sim_devices.h"
 
 #include <algorithm>
+#include <map>
 #include <thread>
+
+#include "robot_server/sonar/sonar_config.h"
+#include "robot_server/sonar/srf08_emulator.h"
 
 namespace mostar::sim {
 
@@ -112,6 +116,27 @@ std::unique_ptr<SimulatedLms200> SimulatedLms200::Create(SimWorld* world,
 SimulatedLms200::~SimulatedLms200() {
   if (scanner_) scanner_->Stop();
   if (runner_) runner_->Stop();
+}
+
+std::unique_ptr<SimulatedSonar> SimulatedSonar::Create(SimWorld* world,
+                                                       const sonar::SonarConfig& config,
+                                                       SonarCone cone, const Clock* clock,
+                                                       std::string* error) {
+  sonar::Srf08RingOptions options;
+  if (!sonar::Srf08RingOptionsFromConfig(config, &options, error)) return nullptr;
+  cone.field_of_view_rad = options.field_of_view_rad;
+  cone.min_range_m = options.min_range_m;
+  cone.max_range_m = sonar::Srf08WindowMetres(255);  // the sensor cuts to its own window
+  std::map<uint8_t, SonarMount> mounts;
+  for (const sonar::Srf08Sensor& s : options.sensors) mounts[s.address] = s.mount;
+  auto bus = std::make_unique<sonar::Srf08BusEmulator>(
+      *clock, [world, clock, cone, mounts](uint8_t address) {
+        return world->SonarEchoAt(clock->Now(), mounts.at(address), cone);
+      });
+  for (const auto& [address, mount] : mounts) bus->AddSensor(address);
+  auto sim = std::unique_ptr<SimulatedSonar>(new SimulatedSonar());
+  sim->ring_ = std::make_unique<sonar::Srf08Ring>(std::move(bus), options, *clock);
+  return sim;
 }
 
 }  // namespace mostar::sim

@@ -4,6 +4,8 @@
 //   SimDriveMotors   : drive::DriveMotors    (velocity commands in, encoder ticks out)
 //   SimulatedLms200  : the LMS200 emulator on a pseudo-terminal, fed by SimWorldRangeSource,
 //                      read by the real LMS200 driver (Lms200Scanner over libserial)
+//   SimulatedSonar   : the real SRF08 driver (Srf08Ring) on an emulated I2C bus of SRF08s
+//                      whose echoes SimWorld raycasts at each sensor's mount
 // All share one SimWorld, which they advance to the current time of the injected clock.
 #pragma once
 
@@ -20,6 +22,8 @@
 #include "robot_server/sim/lms200_emulator/range_source.h"
 #include "robot_server/sim/sim_range_source.h"
 #include "robot_server/sim/sim_world.h"
+#include "robot_server/sonar/sonar_config.pb.h"
+#include "robot_server/sonar/srf08.h"
 
 namespace mostar::sim {
 
@@ -77,6 +81,21 @@ class SimulatedLms200 {
   std::unique_ptr<Lms200Emulator> emulator_;
   std::unique_ptr<Lms200PtyRunner> runner_;
   std::unique_ptr<laser::Lms200Scanner> scanner_;
+};
+
+// The simulated sonar belt as the robot sees it (see the top of this file). The sensors'
+// cone (beam angle from the configuration) and height come from `cone`.
+class SimulatedSonar {
+ public:
+  // Null with a message when the configuration is invalid (sonar_config.h).
+  static std::unique_ptr<SimulatedSonar> Create(SimWorld* world, const sonar::SonarConfig& config,
+                                                SonarCone cone, const Clock* clock,
+                                                std::string* error);
+  sonar::SonarRing* ring() { return ring_.get(); }
+
+ private:
+  SimulatedSonar() = default;
+  std::unique_ptr<sonar::Srf08Ring> ring_;
 };
 
 }  // namespace mostar::sim

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <mutex>
+#include <optional>
+#include <thread>
 
 #include "common/time/fake_clock.h"
 #include "robot_server/drive/odometry.h"
@@ -129,6 +132,58 @@ TEST_F(SimDrivingTest, OdometryFollowsTheTruePoseOverADrivenPath) {
   EXPECT_NEAR(std::remainder(odom.theta_rad - (truth.theta_rad - start.theta_rad), 2 * M_PI), 0,
               0.03);
   EXPECT_EQ(world_->StateAt(clock_.Now()).collision_count, 0u);
+}
+
+// The real SRF08 driver on the emulated bus: the front sensor hears a glass pane that the laser
+// passes, the rear one the wall behind; the belt runs on its own thread in real time.
+TEST(SimulatedSonarTest, TheDriverHearsTheGlassPaneAheadAndTheWallBehind) {
+  proto::Scene scene = Room();
+  auto* glass = scene.add_box();
+  glass->set_x_m(2.2);
+  glass->set_size_x_m(0.02);
+  glass->set_size_y_m(1.0);
+  glass->set_height_m(2.0);
+  glass->mutable_material()->set_laser(proto::TRANSPARENT);
+  std::string error;
+  auto world = SimWorld::Create(scene, proto::SimConfig(), SystemClock::Instance().Now(), &error);
+  ASSERT_NE(world, nullptr) << error;
+  sonar::SonarConfig config;
+  auto* front = config.add_sensors();
+  front->set_address(0x70);
+  front->set_x_m(0.3);
+  auto* rear = config.add_sensors();
+  rear->set_address(0x71);
+  rear->set_x_m(-0.3);
+  rear->set_yaw_deg(180);
+  config.set_ranging_time_ms(30);  // the 6 m window's echo time is 35 ms: polls wait the rest
+  auto sim =
+      SimulatedSonar::Create(world.get(), config, SonarCone{}, &SystemClock::Instance(), &error);
+  ASSERT_NE(sim, nullptr) << error;
+  std::mutex mutex;
+  std::optional<SonarRanges> latest;
+  ASSERT_TRUE(sim->ring()->Start(
+      [&](const SonarRanges& r) {
+        std::lock_guard<std::mutex> lock(mutex);
+        latest = r;
+      },
+      &error))
+      << error;
+  for (int i = 0; i < 100; ++i) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (latest) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  sim->ring()->Stop();
+  ASSERT_TRUE(latest.has_value()) << "no belt cycle within 2 s";
+  ASSERT_EQ(latest->ranges.size(), 2u);
+  // The robot at x = 1 (Room()): the front sensor 0.89 m from the pane at 2.19 m. The rear one
+  // is 3.7 m from the wall at x = -3, but the edge of its 55 degree cone meets the side walls
+  // (1.5 m away) first: 1.5 / sin(27.5 deg) = 3.25 m. A sonar's wide cone, as on the robot.
+  EXPECT_NEAR(latest->ranges[0].range_m, 0.89, 0.011);
+  EXPECT_NEAR(latest->ranges[1].range_m, 1.5 / std::sin(27.5 * M_PI / 180), 0.011);
+  EXPECT_EQ(sim->ring()->Health().state, DeviceState::kOk) << sim->ring()->Health().message;
 }
 
 }  // namespace
