@@ -11,6 +11,8 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   # sensors, maths, vision, config
   libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev
+  # bumper contacts on GPIO lines (the Linux GPIO character device)
+  libgpiod-dev
   # service manager readiness and watchdog (sd_notify)
   libsystemd-dev
   libprotobuf-dev protobuf-compiler libcli11-dev

@@ -123,6 +123,16 @@ float SimWorld::SonarEchoAt(Time t, const SonarMount& mount, const SonarCone& co
   return SonarFirstEcho(*world_, pose, mount, cone);  // the World is immutable
 }
 
+uint32_t SimWorld::BumpersAt(Time t, int count) {
+  Pose2D pose;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    AdvanceLocked(t);
+    pose = drive_.world_from_base();
+  }
+  return BumperContacts(*world_, pose, drive_.params(), count);  // params are const
+}
+
 RobotState SimWorld::StateAt(Time t) {
   std::lock_guard<std::mutex> lock(mutex_);
   AdvanceLocked(t);

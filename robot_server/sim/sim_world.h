@@ -19,6 +19,7 @@
 #include "common/time/time.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "robot_server/sim/bumper_contacts.h"
 #include "robot_server/sim/diff_drive.h"
 #include "robot_server/sim/ground_truth.h"
 #include "robot_server/sim/laser_raycast.h"
@@ -75,6 +76,8 @@ class SimWorld {
   StereoImages StereoAt(Time t, bool with_truth, Pose2D* world_from_base = nullptr);
   // The first echo of a sonar at `mount` at t (sonar_raycast.h: metres, +Inf = nothing).
   float SonarEchoAt(Time t, const SonarMount& mount, const SonarCone& cone);
+  // The pressed bumper segments at t (bumper_contacts.h; bit i = segment i of `count`).
+  uint32_t BumpersAt(Time t, int count);
   EncoderTicks EncodersAt(Time t);
   RobotState StateAt(Time t);
 

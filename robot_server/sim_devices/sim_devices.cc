@@ -118,6 +118,21 @@ SimulatedLms200::~SimulatedLms200() {
   if (runner_) runner_->Stop();
 }
 
+bool SimBumperBelt::Read(uint32_t* pressed, std::string* /*error*/) {
+  *pressed = world_->BumpersAt(clock_->Now(), segments_);
+  last_ = *pressed;
+  ++reads_;
+  return true;
+}
+
+DeviceHealth SimBumperBelt::Health() const {
+  DeviceHealth h;
+  h.name = "bumpers";
+  h.state = DeviceState::kOk;
+  h.counters = {{"reads", reads_.load()}, {"pressed_mask", last_.load()}};
+  return h;
+}
+
 std::unique_ptr<SimulatedSonar> SimulatedSonar::Create(SimWorld* world,
                                                        const sonar::SonarConfig& config,
                                                        SonarCone cone, const Clock* clock,

@@ -4,15 +4,18 @@
 //   SimDriveMotors   : drive::DriveMotors    (velocity commands in, encoder ticks out)
 //   SimulatedLms200  : the LMS200 emulator on a pseudo-terminal, fed by SimWorldRangeSource,
 //                      read by the real LMS200 driver (Lms200Scanner over libserial)
+//   SimBumperBelt    : bumper::BumperBelt     (segments touching an obstacle in the scene)
 //   SimulatedSonar   : the real SRF08 driver (Srf08Ring) on an emulated I2C bus of SRF08s
 //                      whose echoes SimWorld raycasts at each sensor's mount
 // All share one SimWorld, which they advance to the current time of the injected clock.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 
 #include "common/time/time.h"
+#include "robot_server/bumper/bumper_belt.h"
 #include "robot_server/camera/stereo_camera.h"
 #include "robot_server/drive/drive_motors.h"
 #include "robot_server/laser/lms200_config.pb.h"
@@ -81,6 +84,22 @@ class SimulatedLms200 {
   std::unique_ptr<Lms200Emulator> emulator_;
   std::unique_ptr<Lms200PtyRunner> runner_;
   std::unique_ptr<laser::Lms200Scanner> scanner_;
+};
+
+class SimBumperBelt final : public bumper::BumperBelt {
+ public:
+  SimBumperBelt(SimWorld* world, int segments, const Clock* clock)
+      : world_(world), segments_(segments), clock_(clock) {}
+  bool Read(uint32_t* pressed, std::string* error) override;
+  int segments() const override { return segments_; }
+  DeviceHealth Health() const override;
+
+ private:
+  SimWorld* world_;
+  const int segments_;
+  const Clock* clock_;
+  std::atomic<uint32_t> last_{0};
+  std::atomic<uint64_t> reads_{0};
 };
 
 // The simulated sonar belt as the robot sees it (see the top of this file). The sensors'

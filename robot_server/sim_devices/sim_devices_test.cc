@@ -89,6 +89,30 @@ TEST_F(SimDrivingTest, ObstacleSlowDownStopsBeforeTheWallTheLaserSees) {
   EXPECT_LT(3.0 - bumper_x, 0.45);
 }
 
+// Driven into the wall with no governor: the front bumper segment is pressed at the contact,
+// and released once the robot backs off.
+TEST_F(SimDrivingTest, DrivingIntoTheWallPressesTheFrontBumper) {
+  SimBumperBelt bumpers(world_.get(), 16, &clock_);
+  uint32_t pressed = 0;
+  std::string error;
+  ASSERT_TRUE(bumpers.Read(&pressed, &error));
+  EXPECT_EQ(pressed, 0u);
+  for (int i = 0; i < 500 && !world_->StateAt(clock_.Now()).in_collision; ++i) {
+    ASSERT_TRUE(motors_->SetVelocity(0.3, 0, &error)) << error;
+    clock_.Advance(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(world_->StateAt(clock_.Now()).in_collision) << "never reached the wall";
+  ASSERT_TRUE(bumpers.Read(&pressed, &error));
+  EXPECT_TRUE(pressed & 1u) << "front segment, mask " << pressed;
+  EXPECT_FALSE(pressed & (1u << 8)) << "not the rear";
+  for (int i = 0; i < 25; ++i) {
+    ASSERT_TRUE(motors_->SetVelocity(-0.2, 0, &error)) << error;
+    clock_.Advance(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(bumpers.Read(&pressed, &error));
+  EXPECT_EQ(pressed, 0u);
+}
+
 TEST_F(SimDrivingTest, OdometryFollowsTheTruePoseOverADrivenPath) {
   drive::SafetyOptions options;
   options.stop_distance_m = 0.05;
