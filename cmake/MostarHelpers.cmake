@@ -47,6 +47,11 @@ function(mostar_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
   mostar_target_settings(${name})
+  if(NOT MOSTAR_SANITIZE STREQUAL "")
+    # Sanitizer builds compile the test files themselves unoptimised (the code under test keeps
+    # the build type's flags): test files are half of those builds and compile twice as fast.
+    target_compile_options(${name} PRIVATE -O0)
+  endif()
   if(MOSTAR_SANITIZE STREQUAL "thread")
     target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/cmake/tsan_opencv_serial.cc)
     target_link_libraries(${name} PRIVATE opencv_core)
