@@ -52,6 +52,9 @@ int Run(int argc, char** argv) {
       "--id", flags.client_id,
       "this client's id (shown in the lease); with DDS Security the CN of its certificate, "
       "which is also the default");
+  app.add_flag("--insecure", flags.insecure,
+               "allow a network DDS profile without DDS Security (anyone on the network can "
+               "watch and drive; docs/security.md)");
   app.add_option("--role", flags.role, "pilot | observer")
       ->check(CLI::IsMember({"pilot", "observer"}));
   int ignored_strength = 0;
@@ -94,6 +97,7 @@ int Run(int argc, char** argv) {
   app.add_option("--log-level", log_level, "debug | info | warning | error")
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
   CLI11_PARSE(app, argc, argv);
+  flags.client_id_given = id_option->count() > 0;
   LogLevel level;
   ParseLogLevel(log_level, &level);
   SetLogLevel(level);
@@ -113,7 +117,6 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 2;
   }
-  const std::string& client_id = flags.client_id;
   const bool headless = flags.headless;
   StampTrace trace;
   if (!trace.Open(trace_path)) {
@@ -129,29 +132,19 @@ int Run(int argc, char** argv) {
   dds_options.domain_id = domain >= 0 ? domain : dds::DomainIdFromEnvironment(0);
   dds_options.profile = dds_profile;
   dds_options.name = "operator";
+  dds_options.insecure = flags.insecure;
   auto participant = dds::Participant::Create(dds_options, &error);
   if (!participant) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
-  if (participant->secure()) {
-    // The robot drops every sample whose sender_id is not our certificate's CN.
-    const std::string& cn = participant->own_client_id();
-    if (cn.empty()) {
-      std::cerr << "operator_client: the certificate of " << dds_profile
-                << " has no CN that is a client id\n";
-      return 2;
-    }
-    if (id_option->count() == 0) {
-      flags.client_id = cn;
-      console_options.client_id = cn;
-    } else if (flags.client_id != cn) {
-      std::cerr << "operator_client: --id " << flags.client_id << " is not the CN of this "
-                << "client's certificate (" << cn
-                << "): the robot would drop everything it sends\n";
-      return 2;
-    }
+  if (!ResolveClientId(flags, participant->secure(), participant->own_client_id(),
+                       &console_options.client_id, &error)) {
+    std::cerr << "operator_client: " << dds_profile << ": " << error << "\n";
+    return 2;
   }
+  const std::string& client_id = console_options.client_id;
+  console_options.dds_security_off = participant->security_off();
 
   const Clock* clock = &SystemClock::Instance();
   std::unique_ptr<record::RecordingWriter> recorder;

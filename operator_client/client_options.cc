@@ -75,4 +75,23 @@ bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
   return true;
 }
 
+bool ResolveClientId(const ClientFlags& flags, bool secure, const std::string& certificate_cn,
+                     std::string* client_id, std::string* error) {
+  if (!secure) {
+    *client_id = flags.client_id;
+    return true;
+  }
+  if (certificate_cn.empty()) {
+    *error = "this client's certificate has no CN that is a client id (1-64 of [A-Za-z0-9_.-])";
+    return false;
+  }
+  if (flags.client_id_given && flags.client_id != certificate_cn) {
+    *error = "--id " + flags.client_id + " is not the CN of this client's certificate (" +
+             certificate_cn + "): the robot would drop everything it sends";
+    return false;
+  }
+  *client_id = certificate_cn;
+  return true;
+}
+
 }  // namespace mostar::client

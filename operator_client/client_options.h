@@ -12,6 +12,8 @@ namespace mostar::client {
 // The flags that change the console (the rest are wiring: domain, profile, trace, ...).
 struct ClientFlags {
   std::string client_id = "operator";  // a valid client id; with DDS Security its cert's CN
+  bool client_id_given = false;        // --id was on the command line
+  bool insecure = false;               // --insecure: a network profile without DDS Security
   std::string role = "pilot";          // "pilot" or "observer"
   std::string display;                 // empty: the configuration's display_mode, else mono-left
   std::string calibration_path;        // --calibration: loaded and saved here; overrides the file's
@@ -28,5 +30,13 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
 // The flags over `options` (from ConsoleOptionsFromConfig of `config`).
 bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
                       ui::ConsoleOptions* options, std::string* error);
+
+// The client id this client sends as sender_id and shows in the lease. Without DDS Security
+// (`secure` false): --id (default "operator"). With it the robot drops every sample whose
+// sender_id is not the CN of the writer's certificate, so: the CN (`certificate_cn`, empty
+// when the certificate names no valid client id, which is refused), and an --id other than
+// the CN is refused. False with a message.
+bool ResolveClientId(const ClientFlags& flags, bool secure, const std::string& certificate_cn,
+                     std::string* client_id, std::string* error);
 
 }  // namespace mostar::client

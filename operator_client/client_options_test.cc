@@ -97,5 +97,44 @@ TEST(ClientOptionsTest, BadFlagsAreRefusedWithTheValue) {
   EXPECT_EQ(error.rfind("--id 'pilot one': ", 0), 0u) << error;
 }
 
+TEST(ResolveClientIdTest, WithoutSecurityTheFlagIsTheId) {
+  ClientFlags flags;
+  std::string id;
+  std::string error;
+  ASSERT_TRUE(ResolveClientId(flags, /*secure=*/false, "", &id, &error)) << error;
+  EXPECT_EQ(id, "operator");
+  flags.client_id = "alice";
+  flags.client_id_given = true;
+  ASSERT_TRUE(ResolveClientId(flags, false, "bob", &id, &error)) << error;
+  EXPECT_EQ(id, "alice") << "no certificate to believe without DDS Security";
+}
+
+TEST(ResolveClientIdTest, WithSecurityTheCertificatesCnIsTheId) {
+  ClientFlags flags;  // no --id: the default is not used
+  std::string id;
+  std::string error;
+  ASSERT_TRUE(ResolveClientId(flags, /*secure=*/true, "alice", &id, &error)) << error;
+  EXPECT_EQ(id, "alice");
+  flags.client_id = "alice";
+  flags.client_id_given = true;
+  ASSERT_TRUE(ResolveClientId(flags, true, "alice", &id, &error)) << error;
+  EXPECT_EQ(id, "alice");
+}
+
+TEST(ResolveClientIdTest, WithSecurityAnotherIdOrNoCnIsRefused) {
+  ClientFlags flags;
+  flags.client_id = "bob";
+  flags.client_id_given = true;
+  std::string id = "unchanged";
+  std::string error;
+  EXPECT_FALSE(ResolveClientId(flags, /*secure=*/true, "alice", &id, &error));
+  EXPECT_NE(error.find("--id bob is not the CN"), std::string::npos) << error;
+  EXPECT_NE(error.find("(alice)"), std::string::npos) << error;
+  EXPECT_EQ(id, "unchanged");
+  error.clear();
+  EXPECT_FALSE(ResolveClientId(ClientFlags{}, true, "", &id, &error));
+  EXPECT_NE(error.find("no CN"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace mostar::client

@@ -65,6 +65,9 @@ void AddFlags(CLI::App* app, ServerFlags* f) {
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
   app->add_option("--trace", f->trace_path,
                   "write published stamps and accepted commands to this CSV");
+  app->add_flag("--insecure", f->insecure,
+                "allow a network DDS profile without DDS Security (anyone on the network can "
+                "read and command the robot; docs/security.md)");
   app->add_option("--state-dir", f->state_dir,
                   "keep the e-stop latch in this directory (default: state_dir of the config, "
                   "/var/lib/mostar for the hardware source)");
@@ -116,6 +119,7 @@ int Run(int argc, char** argv) {
   dds_options.profile = flags.dds_profile.empty() ? config.dds().profile() : flags.dds_profile;
   dds_options.name = "robot";
   dds_options.tcp_user_timeout_ms = config.dds().tcp_user_timeout_ms();
+  dds_options.insecure = config.dds().insecure();
   auto participant = dds::Participant::Create(dds_options, &error);
   if (!participant) return Fail(1, error);
 

@@ -24,6 +24,7 @@ void ApplyFlags(const ServerFlags& flags, ServerConfig* config) {
     laser_replay->set_rate(flags.replay_rate);
     laser_replay->set_loop(flags.replay_loop);
   }
+  if (flags.insecure) config->mutable_dds()->set_insecure(true);
   if (!flags.state_dir.empty()) {
     config->set_state_dir(AbsoluteFromWorkingDirectory(flags.state_dir));
   }

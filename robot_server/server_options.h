@@ -26,10 +26,12 @@ struct ServerFlags {
   bool replay_paused = false;
   std::string replay_sensors;
   std::string state_dir;  // --state-dir: overrides state_dir
+  bool insecure = false;  // --insecure: sets dds.insecure
 };
 
 // The flags' overrides: --source, --sim (implies SIM), --replay-sensors (camera and laser
-// replay of one file at --replay-rate, --loop), --state-dir. Paths on the command line are made
+// replay of one file at --replay-rate, --loop), --state-dir, --insecure (dds.insecure; the flag
+// can only turn it on). Paths on the command line are made
 // absolute from the working directory (paths in the file stay relative to the file).
 void ApplyFlags(const ServerFlags& flags, ServerConfig* config);
 

@@ -38,6 +38,19 @@ TEST(ServerOptionsTest, SourceFlagOverridesTheFileAndNoFlagChangesNothing) {
   EXPECT_EQ(config.scene_file(), "scenes/corridor.pbtxt") << "file paths stay file-relative";
 }
 
+TEST(ServerOptionsTest, InsecureFlagTurnsTheConfigurationsInsecureOnNeverOff) {
+  ServerConfig config;
+  EXPECT_FALSE(config.dds().insecure()) << "secure by default";
+  ApplyFlags(ServerFlags{}, &config);
+  EXPECT_FALSE(config.dds().insecure());
+  ServerFlags flags;
+  flags.insecure = true;
+  ApplyFlags(flags, &config);
+  EXPECT_TRUE(config.dds().insecure());
+  ApplyFlags(ServerFlags{}, &config);
+  EXPECT_TRUE(config.dds().insecure()) << "a file's insecure: true stays without the flag";
+}
+
 TEST(ServerOptionsTest, ReplaySensorsReplaysCameraAndLaserOfOneFileAtOneRate) {
   ServerConfig config;
   ServerFlags flags;

@@ -102,6 +102,7 @@ TEST(ParticipantTest, RefusesATakenTcpListeningPort) {
   options.domain_id = PerProcessDomainId();
   options.profile = xml;
   options.xml_participant_profile = "tcp_robot";
+  options.insecure = true;  // no DDS Security in this profile
   std::string error;
   EXPECT_EQ(Participant::Create(options, &error), nullptr);
   EXPECT_NE(error.find("TCP port " + std::to_string(port)), std::string::npos) << error;

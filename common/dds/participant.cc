@@ -138,9 +138,22 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
       return nullptr;
     }
   }
+  SecuritySettings settings;
+  if (!SecuritySettingsFromProperties(qos.properties(), &settings, error)) return nullptr;
+  const SecurityPolicy policy =
+      CheckSecurityPolicy(options.profile == "loopback", settings, options.insecure);
+  if (!policy.allowed()) {
+    *error = options.profile + ": " + policy.message;
+    return nullptr;
+  }
   if (!TcpListeningPortsFree(qos, error)) return nullptr;
   std::unique_ptr<Participant> p(new Participant(options));
-  if (!p->SetUpSecurity(&qos, error)) return nullptr;
+  if (policy.security_off()) {
+    MOSTAR_LOG(WARNING) << "participant '" << options.name << "' (" << options.profile
+                        << "): " << policy.message;
+    p->security_off_ = true;
+  }
+  if (!p->SetUpSecurity(settings, &qos, error)) return nullptr;
   for (const auto& transport : qos.transport().user_transports) {
     if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPTransportDescriptor>(transport)) {
       p->uses_tcp_ = true;
@@ -168,14 +181,13 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
   return p;
 }
 
-bool Participant::SetUpSecurity(fdds::DomainParticipantQos* qos, std::string* error) {
+bool Participant::SetUpSecurity(const SecuritySettings& settings, fdds::DomainParticipantQos* qos,
+                                std::string* error) {
   // Remote participants announcing more than this USER_DATA are ignored (a certificate is
   // about 500 bytes).
   if (qos->allocation().data_limits.max_user_data == 0) {
     qos->allocation().data_limits.max_user_data = kMaxUserDataBytes;
   }
-  SecuritySettings settings;
-  if (!SecuritySettingsFromProperties(qos->properties(), &settings, error)) return false;
   if (!settings.authentication) return true;
   std::vector<uint8_t> der;
   if (!identity::ReadPemCertificate(settings.identity_certificate_path, &der, error)) return false;

@@ -10,6 +10,9 @@
 // With DDS Security (the profile's properties enable builtin.PKI-DH) the participant announces
 // its identity certificate in its USER_DATA and learns, for each authenticated remote
 // participant, the client id (certificate CN) it is (security.h): AuthenticatedClientId.
+// Secure by default: a profile other than "loopback" whose properties do not enable DDS Security
+// (PKI-DH, Access-Permissions, AES-GCM-GMAC) is refused unless `insecure` is set; then the
+// participant logs a warning and says so in security_off() (CheckSecurityPolicy).
 // Teardown order is handled here: contained entities first, then the participant. A participant
 // with a TCP transport is not deleted (see EndProcess): programs end through EndProcess.
 #pragma once
@@ -36,6 +39,8 @@ struct ParticipantOptions {
   std::string profile = "loopback";     // "loopback" or a path to a Fast DDS XML profiles file
   std::string xml_participant_profile;  // profile name inside the XML file (default: name)
   std::string name = "mostar";          // participant name, e.g. "robot" or "operator"
+  // --insecure: allow a network profile without DDS Security (a warning, and security_off()).
+  bool insecure = false;
   // Shared-memory segment size for the loopback profile; must hold a few JPEG frames.
   uint32_t shm_segment_bytes = 8u << 20;
   // With a TCP transport: TCP_USER_TIMEOUT for the process's TCP sockets, so that a peer that
@@ -79,13 +84,16 @@ class Participant {
   // The CN of this participant's own certificate when secure() and it is a valid client id;
   // empty otherwise.
   const std::string& own_client_id() const { return own_client_id_; }
+  // Started with --insecure on a network profile without (complete) DDS Security.
+  bool security_off() const { return security_off_; }
   PeerIdentityCounters identity_counters() const;
 
  private:
   explicit Participant(ParticipantOptions options) : options_(std::move(options)) {}
   // Reads the security settings of `qos`; when PKI-DH is on, puts this participant's
   // certificate into its USER_DATA and makes the identity listener.
-  bool SetUpSecurity(eprosima::fastdds::dds::DomainParticipantQos* qos, std::string* error);
+  bool SetUpSecurity(const SecuritySettings& settings,
+                     eprosima::fastdds::dds::DomainParticipantQos* qos, std::string* error);
   static constexpr size_t kMaxUserDataBytes = 4096;
 
   ParticipantOptions options_;
@@ -96,6 +104,7 @@ class Participant {
   std::unique_ptr<TcpUserTimeoutGuard> tcp_guard_;    // TCP participants only
   std::unique_ptr<PeerIdentityListener> identities_;  // secure participants only
   std::string own_client_id_;
+  bool security_off_ = false;
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };

@@ -1,6 +1,7 @@
 #include "common/dds/security.h"
 
 #include <cstring>
+#include <utility>
 
 #include "common/identity/peer_certificate.h"
 #include "common/log/log.h"
@@ -34,9 +35,13 @@ bool SecuritySettingsFromProperties(const frtps::rtps::PropertyPolicy& propertie
                                     SecuritySettings* settings, std::string* error) {
   using frtps::rtps::PropertyPolicyHelper;
   *settings = SecuritySettings();
-  const std::string* plugin =
-      PropertyPolicyHelper::find_property(properties, "dds.sec.auth.plugin");
-  if (plugin == nullptr || *plugin != "builtin.PKI-DH") return true;
+  const auto is = [&properties](const char* name, const char* value) {
+    const std::string* found = PropertyPolicyHelper::find_property(properties, name);
+    return found != nullptr && *found == value;
+  };
+  settings->access_control = is("dds.sec.access.plugin", "builtin.Access-Permissions");
+  settings->cryptography = is("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  if (!is("dds.sec.auth.plugin", "builtin.PKI-DH")) return true;
   settings->authentication = true;
   for (const auto& [name, path] :
        {std::make_pair("dds.sec.auth.builtin.PKI-DH.identity_ca", &settings->identity_ca_path),
@@ -49,6 +54,40 @@ bool SecuritySettingsFromProperties(const frtps::rtps::PropertyPolicy& propertie
     }
   }
   return true;
+}
+
+SecurityPolicy CheckSecurityPolicy(bool profile_is_loopback, const SecuritySettings& settings,
+                                   bool insecure) {
+  SecurityPolicy policy;
+  if (settings.complete()) {
+    policy.verdict = SecurityVerdict::kSecure;
+    return policy;
+  }
+  if (profile_is_loopback) {
+    policy.verdict = SecurityVerdict::kLoopback;
+    return policy;
+  }
+  std::string missing;
+  for (const auto& [on, plugin] :
+       {std::make_pair(settings.authentication, "builtin.PKI-DH"),
+        std::make_pair(settings.access_control, "builtin.Access-Permissions"),
+        std::make_pair(settings.cryptography, "builtin.AES-GCM-GMAC")}) {
+    if (on) continue;
+    if (!missing.empty()) missing += ", ";
+    missing += plugin;
+  }
+  if (insecure) {
+    policy.verdict = SecurityVerdict::kInsecureAllowed;
+    policy.message = "DDS Security is off (--insecure; missing " + missing +
+                     "): anyone on the network can read the robot's streams and command it";
+  } else {
+    policy.verdict = SecurityVerdict::kRefused;
+    policy.message =
+        "the DDS profile is not loopback and does not enable DDS Security (missing " + missing +
+        "): make one with deploy/security/make_pki.sh (docs/security.md), or pass --insecure to "
+        "run without it on a network you trust";
+  }
+  return policy;
 }
 
 PeerIdentityListener::PeerIdentityListener(std::unique_ptr<identity::IdentityCa> ca)

@@ -1,10 +1,13 @@
 // DDS Security identities: the settings read from participant properties, and secure
-// participants (PKI-DH, certificates made here) learning each other's client ids.
+// participants (PKI-DH, certificates made here) learning each other's client ids; the
+// secure-by-default policy (CheckSecurityPolicy) and its use by Participant::Create.
 #include "common/dds/security.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <thread>
 
@@ -13,6 +16,8 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/identity/test_certificates.h"
+#include "common/testing/dds_profiles.h"
+#include "common/testing/subprocess.h"
 #include "mostar_msgsPubSubTypes.h"
 
 namespace mostar::dds {
@@ -59,6 +64,80 @@ TEST(SecuritySettingsTest, NoPkiDhMeansNoAuthenticationAndBadUrisAreRefused) {
                   {"dds.sec.auth.builtin.PKI-DH.identity_certificate", "pkcs11:token=x"}}),
       &settings, &error));
   EXPECT_NE(error.find("identity_certificate"), std::string::npos);
+}
+
+TEST(SecuritySettingsTest, ReadsWhichPluginsAreOn) {
+  SecuritySettings settings;
+  std::string error;
+  ASSERT_TRUE(SecuritySettingsFromProperties(
+      Properties({{"dds.sec.auth.plugin", "builtin.PKI-DH"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_ca", "file:/ca.pem"},
+                  {"dds.sec.auth.builtin.PKI-DH.identity_certificate", "file:/a.pem"},
+                  {"dds.sec.access.plugin", "builtin.Access-Permissions"},
+                  {"dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC"}}),
+      &settings, &error))
+      << error;
+  EXPECT_TRUE(settings.complete());
+  ASSERT_TRUE(SecuritySettingsFromProperties(
+      Properties({{"dds.sec.access.plugin", "builtin.Access-Permissions"},
+                  {"dds.sec.crypto.plugin", "other"}}),
+      &settings, &error));
+  EXPECT_FALSE(settings.authentication);
+  EXPECT_TRUE(settings.access_control);
+  EXPECT_FALSE(settings.cryptography);
+  EXPECT_FALSE(settings.complete());
+}
+
+SecuritySettings Settings(bool authentication, bool access_control, bool cryptography) {
+  SecuritySettings settings;
+  settings.authentication = authentication;
+  settings.access_control = access_control;
+  settings.cryptography = cryptography;
+  return settings;
+}
+
+TEST(SecurityPolicyTest, CompleteSecurityIsAllowedEverywhere) {
+  for (bool loopback : {false, true}) {
+    for (bool insecure : {false, true}) {
+      const SecurityPolicy policy =
+          CheckSecurityPolicy(loopback, Settings(true, true, true), insecure);
+      EXPECT_EQ(policy.verdict, SecurityVerdict::kSecure);
+      EXPECT_TRUE(policy.allowed());
+      EXPECT_FALSE(policy.security_off());
+    }
+  }
+}
+
+TEST(SecurityPolicyTest, LoopbackNeedsNoSecurity) {
+  const SecurityPolicy policy = CheckSecurityPolicy(true, Settings(false, false, false), false);
+  EXPECT_EQ(policy.verdict, SecurityVerdict::kLoopback);
+  EXPECT_TRUE(policy.allowed());
+  EXPECT_FALSE(policy.security_off());
+  EXPECT_EQ(policy.message, "");
+}
+
+TEST(SecurityPolicyTest, NetworkProfileWithoutSecurityIsRefusedUnlessInsecure) {
+  const SecurityPolicy refused = CheckSecurityPolicy(false, Settings(false, false, false), false);
+  EXPECT_EQ(refused.verdict, SecurityVerdict::kRefused);
+  EXPECT_FALSE(refused.allowed());
+  EXPECT_NE(refused.message.find("make_pki.sh"), std::string::npos) << refused.message;
+  EXPECT_NE(refused.message.find("--insecure"), std::string::npos) << refused.message;
+
+  const SecurityPolicy allowed = CheckSecurityPolicy(false, Settings(false, false, false), true);
+  EXPECT_EQ(allowed.verdict, SecurityVerdict::kInsecureAllowed);
+  EXPECT_TRUE(allowed.allowed());
+  EXPECT_TRUE(allowed.security_off());
+  EXPECT_NE(allowed.message.find("DDS Security is off"), std::string::npos) << allowed.message;
+}
+
+TEST(SecurityPolicyTest, PartialSecurityCountsAsNone) {
+  // Authentication without encryption or permissions: names the missing plugins.
+  const SecurityPolicy policy = CheckSecurityPolicy(false, Settings(true, false, false), false);
+  EXPECT_EQ(policy.verdict, SecurityVerdict::kRefused);
+  EXPECT_EQ(policy.message.find("builtin.PKI-DH"), std::string::npos) << policy.message;
+  EXPECT_NE(policy.message.find("builtin.Access-Permissions"), std::string::npos);
+  EXPECT_NE(policy.message.find("builtin.AES-GCM-GMAC"), std::string::npos);
+  EXPECT_TRUE(CheckSecurityPolicy(false, Settings(true, true, false), true).security_off());
 }
 
 template <class Predicate>
@@ -143,6 +222,7 @@ class SecureParticipantsTest : public ::testing::Test {
     options.profile = base + ".xml";
     options.xml_participant_profile = profile;
     options.name = profile;
+    options.insecure = true;  // authentication only: no permissions, no encryption
     std::string error;
     auto p = Participant::Create(options, &error);
     EXPECT_NE(p, nullptr) << error;
@@ -197,6 +277,33 @@ TEST(InsecureParticipantTest, KnowsNoIdentities) {
   EXPECT_FALSE(p->secure());
   EXPECT_EQ(p->own_client_id(), "");
   EXPECT_EQ(p->AuthenticatedClientId(PrefixOf(*p)), std::nullopt);
+  EXPECT_FALSE(p->security_off());  // loopback: nothing leaves this machine
+}
+
+// A network profile (an XML file) without DDS Security: refused, or allowed and marked with
+// --insecure.
+TEST(InsecureParticipantTest, NetworkProfileWithoutSecurityNeedsInsecure) {
+  const std::string dir = testing::MakeTempDir("mostar_insecure_");
+  const std::string xml = testing::WriteLoopbackUdpProfile(dir, "plain_robot");
+  ASSERT_NE(xml, "");
+  ParticipantOptions options;
+  options.domain_id = PerProcessDomainId();
+  options.profile = xml;
+  options.xml_participant_profile = "plain_robot";
+  std::string error;
+  EXPECT_EQ(Participant::Create(options, &error), nullptr);
+  EXPECT_NE(error.find("does not enable DDS Security"), std::string::npos) << error;
+  EXPECT_NE(error.find("--insecure"), std::string::npos) << error;
+
+  options.insecure = true;
+  error.clear();
+  auto p = Participant::Create(options, &error);
+  ASSERT_NE(p, nullptr) << error;
+  EXPECT_TRUE(p->security_off());
+  EXPECT_FALSE(p->secure());
+  p.reset();
+  std::remove(xml.c_str());
+  ::rmdir(dir.c_str());
 }
 
 }  // namespace

@@ -2,12 +2,19 @@
 # Creates the DDS Security (OMG DDS-Security 1.1, Fast DDS builtin plugins PKI-DH,
 # Access-Permissions, AES-GCM-GMAC) files for one mostar robot and its operators.
 #
+# Run it on an admin computer, not on the robot: the CA keys stay there, and each host gets
+# only its own bundle, OUT_DIR/hosts/NAME/ (docs/security.md, "The PKI from zero").
+#
 # Usage:
 #   make_pki.sh OUT_DIR [--robot NAME] [--pilot NAME ...] [--observer NAME ...]
 #                       [--relay NAME ...] [--profile BASE.xml] [--domains MIN-MAX]
-#                       [--profile-dir DIR] [--org ORG] [--days N]
+#                       [--profile-dir DIR] [--install-dir DIR] [--owner USER:GROUP]
+#                       [--org ORG] [--days N] [--ca-days N] [--crl-days N]
+#   make_pki.sh OUT_DIR --renew NAME [--days N] [--crl-days N] [--owner USER:GROUP]
+#   make_pki.sh OUT_DIR --refresh-crl [--crl-days N] [--owner USER:GROUP]
 #
-#   --robot NAME     the robot_server identity (default: robot)
+#   --robot NAME     the robot_server identity (default: robot; made on the first run, later
+#                    runs leave it alone unless --robot is given)
 #   --pilot NAME     an operator allowed to drive (repeatable)
 #   --observer NAME  an operator allowed to watch only (repeatable)
 #   --relay NAME     a mostar_relay identity (repeatable)
@@ -16,21 +23,36 @@
 #                    when that file exists (deploy/wan/make_overlay.sh writes them), else
 #                    from --profile
 #   --domains A-B    DDS domain ids the permissions cover (default 0-232)
+#   --install-dir D  where each host keeps its bundle: the file:// paths in NAME.xml, e.g.
+#                    /etc/mostar/pki (default: OUT_DIR itself, for one computer; remembered
+#                    in OUT_DIR/install_dir for later runs)
+#   --owner U:G      owner and group of the files in each bundle (needs root); keys are 0640,
+#                    so with root:mostar a service running as User=mostar reads its key
+#   --days N         lifetime of participant certificates and permissions (default 365)
+#   --ca-days N      lifetime of the two CA certificates (default 3650)
+#   --crl-days N     validity of the CRL, until its next update (default 31). Fast DDS
+#                    refuses every certificate once the CRL has expired: --refresh-crl first
+#   --renew NAME     a new key and certificate for NAME (same name and grants, permissions
+#                    valid --days from now); the old certificate is revoked as superseded
+#   --refresh-crl    only issue a new CRL and put it into every bundle (monthly)
 #
 # Produces in OUT_DIR (existing CAs are reused, so participants can be added later):
 #   identity_ca.{cert,key}.pem     signs the participants' certificates (keep the key offline)
 #   permissions_ca.{cert,key}.pem  signs governance and permissions (keep the key offline)
 #   identity_ca.crl.pem            revocation list (see revoke.sh)
 #   governance.xml / governance.p7s          one for all participants
-#   NAME.{cert,key}.pem                      each participant's identity
+#   NAME.{cert,key}.pem                      each participant's identity (CA:FALSE)
 #   NAME.permissions.xml / NAME.permissions.p7s
 #   NAME.xml                       the profiles file with this participant's security
-#                                  properties (absolute file:// paths into OUT_DIR) inserted
-#                                  at every "mostar:security" marker: run the program with
-#                                  --dds-profile OUT_DIR/NAME.xml
-# A participant needs: identity_ca.cert.pem, permissions_ca.cert.pem, identity_ca.crl.pem,
-# governance.p7s, NAME.cert.pem, NAME.key.pem, NAME.permissions.p7s, NAME.xml. Never copy
-# the CA keys to robots or operator computers.
+#                                  properties (absolute file:// paths into --install-dir)
+#                                  inserted at every "mostar:security" marker: run the
+#                                  program with --dds-profile INSTALL_DIR/NAME.xml
+#   hosts/NAME/                    what NAME's host needs and nothing else:
+#                                  identity_ca.cert.pem, permissions_ca.cert.pem,
+#                                  identity_ca.crl.pem, governance.p7s, NAME.cert.pem,
+#                                  NAME.key.pem (0640), NAME.permissions.p7s, NAME.xml;
+#                                  copy it to INSTALL_DIR on that host
+# Never copy the CA keys (or OUT_DIR) to robots or operator computers.
 #
 # Grants (topics are DDS names, see common/dds/topics.h):
 #   robot     publishes camera, scan, odom, health, control/lease, clock/pong;
@@ -51,16 +73,23 @@ die() { echo "make_pki.sh: $*" >&2; exit 1; }
 [ $# -ge 1 ] || usage
 out=$1; shift
 robot=robot
+robot_given=0
 pilots=(); observers=(); relays=()
 here=$(cd "$(dirname "$0")" && pwd)
 profile="$here/../dds/lan.xml"
 profile_dir=""
+install_dir=""
+owner=""
 domain_min=0; domain_max=232
 org=mostar
-days=3650
+days=365
+ca_days=3650
+crl_days=31
+renew=""
+refresh_crl=0
 while [ $# -gt 0 ]; do
   case "$1" in
-    --robot) robot=$2; shift 2 ;;
+    --robot) robot=$2; robot_given=1; shift 2 ;;
     --pilot) pilots+=("$2"); shift 2 ;;
     --observer) observers+=("$2"); shift 2 ;;
     --relay) relays+=("$2"); shift 2 ;;
@@ -69,25 +98,43 @@ while [ $# -gt 0 ]; do
     --domains) domain_min=${2%-*}; domain_max=${2#*-}; shift 2 ;;
     --org) org=$2; shift 2 ;;
     --days) days=$2; shift 2 ;;
+    --ca-days) ca_days=$2; shift 2 ;;
+    --crl-days) crl_days=$2; shift 2 ;;
+    --install-dir) install_dir=$2; shift 2 ;;
+    --owner) owner=$2; shift 2 ;;
+    --renew) renew=$2; shift 2 ;;
+    --refresh-crl) refresh_crl=1; shift ;;
     -h|--help) usage ;;
     *) die "unknown option $1" ;;
   esac
 done
-for n in "$robot" "${pilots[@]}" "${observers[@]}" "${relays[@]}"; do
+for v in "$days" "$ca_days" "$crl_days"; do
+  [[ "$v" =~ ^[1-9][0-9]*$ ]] || die "a lifetime in days must be a positive integer, not '$v'"
+done
+[ -z "$install_dir" ] || [[ "$install_dir" = /* ]] || die "--install-dir must be absolute"
+[ -z "$owner" ] || [[ "$owner" =~ ^[A-Za-z0-9_.-]+:[A-Za-z0-9_.-]+$ ]] || die "--owner must be USER:GROUP"
+for n in "$robot" "${pilots[@]}" "${observers[@]}" "${relays[@]}" ${renew:+"$renew"}; do
   [[ "$n" =~ ^[A-Za-z0-9_.-]+$ ]] || die "participant name '$n' must be [A-Za-z0-9_.-]+"
 done
 [ -f "$profile" ] || die "no profiles file $profile"
 command -v openssl >/dev/null || die "openssl is required"
 
+if [ -n "$renew" ] || [ "$refresh_crl" = 1 ]; then
+  [ -f "$out/ca.cnf" ] || die "$out is no directory made by make_pki.sh"
+fi
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 cd "$out"
 umask 077
+# The file:// paths in NAME.xml: --install-dir, else the one given before, else OUT_DIR.
+if [ -z "$install_dir" ]; then
+  if [ -f install_dir ]; then install_dir=$(cat install_dir); else install_dir=$out; fi
+fi
 
 # --- certificate authorities (ECDSA P-256), with an openssl 'ca' database for revocation ---
 make_ca() {  # name, common name
   [ -f "$1.cert.pem" ] && return 0
-  openssl req -x509 -nodes -days "$days" -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 \
+  openssl req -x509 -nodes -days "$ca_days" -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 \
     -keyout "$1.key.pem" -out "$1.cert.pem" -subj "/O=$org/CN=$2" 2>/dev/null
 }
 make_ca identity_ca "$org identity CA"
@@ -109,22 +156,80 @@ certificate = \$dir/identity_ca.cert.pem
 private_key = \$dir/identity_ca.key.pem
 default_md = sha256
 default_days = $days
-default_crl_days = $days
+default_crl_days = $crl_days
 policy = policy_any
 unique_subject = no
 copy_extensions = none
+x509_extensions = participant_ext
 [ policy_any ]
 organizationName = supplied
 commonName = supplied
+[ participant_ext ]
+basicConstraints = critical, CA:FALSE
+subjectKeyIdentifier = hash
+authorityKeyIdentifier = keyid, issuer
 EOF
 
-make_identity() {  # name
+make_identity() {  # name [subject]
   [ -f "$1.cert.pem" ] && return 0
   openssl req -nodes -new -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 \
-    -keyout "$1.key.pem" -out "$1.csr.pem" -subj "/O=$org/CN=$1" 2>/dev/null
+    -keyout "$1.key.pem" -out "$1.csr.pem" -subj "${2:-/O=$org/CN=$1}" 2>/dev/null
   openssl ca -batch -config ca.cnf -notext -in "$1.csr.pem" -out "$1.cert.pem" 2>/dev/null
   rm -f "$1.csr.pem"
 }
+
+# --- bundles: what each host needs, nothing else ---
+make_bundles() {
+  local p name dir f
+  for p in ./*.permissions.p7s; do
+    [ -e "$p" ] || continue
+    name=${p#./}; name=${name%.permissions.p7s}
+    [ -f "$name.cert.pem" ] && [ -f "$name.key.pem" ] && [ -f "$name.xml" ] || continue
+    dir="hosts/$name"
+    mkdir -p "$dir"
+    for f in identity_ca.cert.pem permissions_ca.cert.pem identity_ca.crl.pem governance.p7s \
+             "$name.cert.pem" "$name.permissions.p7s" "$name.xml"; do
+      cp "$f" "$dir/$f"; chmod 0644 "$dir/$f"
+    done
+    cp "$name.key.pem" "$dir/$name.key.pem"; chmod 0640 "$dir/$name.key.pem"
+    chmod 0755 hosts "$dir"
+    [ -z "$owner" ] || chown -R "$owner" "$dir"
+  done
+}
+issue_crl() {
+  openssl ca -batch -config ca.cnf -gencrl -out identity_ca.crl.pem 2>/dev/null
+  chmod 644 identity_ca.crl.pem
+}
+
+if [ "$refresh_crl" = 1 ]; then
+  issue_crl
+  make_bundles
+  echo "make_pki.sh: new CRL in $out (next update in $crl_days days); copy" \
+    "identity_ca.crl.pem to every host and restart the programs"
+  exit 0
+fi
+
+if [ -n "$renew" ]; then
+  [ -f "$renew.cert.pem" ] && [ -f "$renew.permissions.xml" ] || die "no participant $renew in $out"
+  # The same subject (the permissions name it): /O=.../CN=NAME of the old certificate.
+  subject=$(openssl x509 -in "$renew.cert.pem" -noout -subject -nameopt compat | sed 's/^subject=//')
+  openssl ca -batch -config ca.cnf -revoke "$renew.cert.pem" -crl_reason superseded 2>/dev/null ||
+    die "cannot revoke the old certificate of $renew"
+  rm -f "$renew.cert.pem" "$renew.key.pem"
+  make_identity "$renew" "$subject"
+  # Same grants, valid from now: re-sign the permissions.
+  validity="<validity><not_before>$(date -u +%Y-%m-%dT%H:%M:%S)</not_before>"
+  validity+="<not_after>$(date -u -d "+$days days" +%Y-%m-%dT%H:%M:%S)</not_after></validity>"
+  sed -i "s|<validity>.*</validity>|$validity|" "$renew.permissions.xml"
+  openssl smime -sign -text -in "$renew.permissions.xml" -out "$renew.permissions.p7s" \
+    -signer permissions_ca.cert.pem -inkey permissions_ca.key.pem
+  issue_crl
+  chmod 644 "$renew.cert.pem" "$renew.permissions.p7s"
+  make_bundles
+  echo "make_pki.sh: renewed $renew (valid $days days); copy hosts/$renew/ to its host and" \
+    "identity_ca.crl.pem to every host, then restart the programs"
+  exit 0
+fi
 
 # --- governance: who may join, what is protected ---
 cat > governance.xml <<EOF
@@ -207,7 +312,7 @@ EOF
 
 # --- a secure copy of the profiles file for each participant ---
 make_profile() {  # name
-  local f="file://$out"
+  local f="file://$install_dir"
   local props
   props=$(cat <<EOF
 <propertiesPolicy>
@@ -233,10 +338,13 @@ EOF
     "$source" > "$1.xml"
 }
 
-make_identity "$robot"
-make_permissions "$robot" "$sensors rt/mostar/clock/pong" \
-  "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
-make_profile "$robot"
+echo "$install_dir" > install_dir
+if [ "$robot_given" = 1 ] || [ ! -f "$robot.cert.pem" ]; then
+  make_identity "$robot"
+  make_permissions "$robot" "$sensors rt/mostar/clock/pong" \
+    "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
+  make_profile "$robot"
+fi
 for p in "${pilots[@]}"; do
   make_identity "$p"
   make_permissions "$p" "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping" \
@@ -254,7 +362,9 @@ for r in "${relays[@]}"; do
   make_profile "$r"
 done
 
-openssl ca -batch -config ca.cnf -gencrl -out identity_ca.crl.pem 2>/dev/null
-chmod 644 ./*.cert.pem ./*.p7s ./*.xml identity_ca.crl.pem
+issue_crl
+chmod 644 ./*.cert.pem ./*.p7s ./*.xml
+make_bundles
 echo "make_pki.sh: wrote $out (robot: $robot; pilots: ${pilots[*]:-none};" \
-  "observers: ${observers[*]:-none}; relays: ${relays[*]:-none})"
+  "observers: ${observers[*]:-none}; relays: ${relays[*]:-none}); copy hosts/NAME/ to" \
+  "$install_dir on NAME's host"

@@ -3,10 +3,12 @@
 #
 # Usage: revoke.sh PKI_DIR NAME
 #
-# PKI_DIR is a directory made by make_pki.sh. Afterwards copy PKI_DIR/identity_ca.crl.pem to
-# every robot and operator computer and restart their programs: Fast DDS reads the CRL
-# (property dds.sec.auth.builtin.PKI-DH.identity_crl) when a participant starts, and then
-# refuses to authenticate the revoked certificate.
+# PKI_DIR is a directory made by make_pki.sh (on the admin computer that keeps the CA keys).
+# The new CRL is also put into every host bundle (PKI_DIR/hosts/*/). Afterwards copy
+# identity_ca.crl.pem to every robot and operator computer and restart their programs: Fast
+# DDS reads the CRL (property dds.sec.auth.builtin.PKI-DH.identity_crl) when a participant
+# starts, and then refuses to authenticate the revoked certificate. The CRL is valid for
+# make_pki.sh's --crl-days (31 by default): `make_pki.sh PKI_DIR --refresh-crl` before then.
 set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: revoke.sh PKI_DIR NAME" >&2; exit 2; }
 cd "$1"
@@ -14,4 +16,7 @@ cd "$1"
 openssl ca -batch -config ca.cnf -revoke "$2.cert.pem" 2>/dev/null
 openssl ca -batch -config ca.cnf -gencrl -out identity_ca.crl.pem 2>/dev/null
 chmod 644 identity_ca.crl.pem
+for bundle in hosts/*/; do
+  [ -d "$bundle" ] && cp identity_ca.crl.pem "$bundle" && chmod 644 "$bundle/identity_ca.crl.pem"
+done
 echo "revoke.sh: revoked $2; distribute $(pwd)/identity_ca.crl.pem and restart the participants"

@@ -161,6 +161,9 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e7));
   app.add_option("--stats-period-s", stats_period_s, "print forwarding statistics this often")
       ->check(CLI::Range(0.1, 3600.0));
+  bool insecure = false;
+  app.add_flag("--insecure", insecure,
+               "allow a network DDS profile without DDS Security (docs/security.md)");
   app.add_option("--log-level", log_level, "debug | info | warning | error")
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
   CLI11_PARSE(app, argc, argv);
@@ -170,6 +173,8 @@ int Main(int argc, char** argv) {
 
   robot_options.profile = profile;
   observer_options.profile = profile;
+  robot_options.insecure = insecure;
+  observer_options.insecure = insecure;
   observer_options.domain_id = observer_domain >= 0 ? observer_domain : robot_options.domain_id + 1;
   if (observer_options.domain_id > 232) {
     std::cerr << "mostar_relay: --observer-domain is required when the robot domain is 232\n";

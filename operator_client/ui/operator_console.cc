@@ -310,6 +310,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.mode = options_.mode;
     hud.client_id = options_.client_id;
     hud.pilot = options_.pilot;
+    hud.dds_security_off = options_.dds_security_off;
     hud.drive = drive_;
     hud.drive_scale = mapper_.scale();
     hud.status_line = status_line_;

@@ -41,6 +41,7 @@ namespace mostar::ui {
 struct ConsoleOptions {
   std::string client_id = "operator";
   bool pilot = true;
+  bool dds_security_off = false;  // --insecure on a network profile: the HUD warns
   render::DisplayMode mode = render::DisplayMode::kMonoLeft;
   bool headless = false;
   bool show_calibration_panel = false;

@@ -47,13 +47,17 @@ DeviceHealth RobotNode::NetworkHealth() const {
       {"video_lanes_reclaimed", lanes_reclaimed()},
       {"outbox_dropped", outbox_dropped()},
       {"frame_subscribers", static_cast<uint64_t>(frame_subscribers())},
-      {"tcp_sockets_guarded", static_cast<uint64_t>(participant_->tcp_sockets_guarded())}};
+      {"tcp_sockets_guarded", static_cast<uint64_t>(participant_->tcp_sockets_guarded())},
+      {"dds_security_off", static_cast<uint64_t>(participant_->security_off())}};
   for (auto& counter : sender_check_->HealthCounters()) network.counters.push_back(counter);
   const dds::PeerIdentityCounters identities = participant_->identity_counters();
   network.counters.emplace_back("certificates_verified", identities.certificates_verified);
   network.counters.emplace_back("certificates_refused", identities.certificates_refused);
   network.counters.emplace_back("clock_clients_evicted", clock_responder_->evicted());
-  if (!sender_check_->identities_verified()) {
+  if (participant_->security_off()) {
+    network.state = DeviceState::kWarn;  // every console's HUD lists it
+    network.message = "dds security off (--insecure): sender ids unverified";
+  } else if (!sender_check_->identities_verified()) {
     network.message = "sender ids unverified: DDS Security is off";
   }
   return network;

@@ -115,7 +115,8 @@ class RobotNode final : public RobotLink {
   // no write is in progress. A write blocks while a TCP peer does not read (bounded by the TCP
   // user timeout) and for ever in a Fast DDS deadlock: the caller decides when to give up.
   Duration BlockedWriteDuration(SteadyTime now) const override;
-  // Video ack-clock, outbox and TCP guard counters as the health device "network".
+  // Video ack-clock, outbox, TCP guard, sender identity and DDS Security state (dds_security_off
+  // with --insecure) as the health device "network".
   DeviceHealth NetworkHealth() const override;
   // Pairs written on a lane that a reader had left unacknowledged for lane_timeout.
   uint64_t lanes_reclaimed() const { return lanes_reclaimed_.load(); }

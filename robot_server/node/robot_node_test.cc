@@ -1,16 +1,20 @@
 // The video ack-clock with real DDS participants on loopback: a net_probe subprocess is the
-// observer that stops acknowledging (SIGSTOP); an in-process reader is everyone else.
+// observer that stops acknowledging (SIGSTOP); an in-process reader is everyone else. And the
+// network health saying whether DDS Security is off.
 #include "robot_server/node/robot_node.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 #include "common/dds/domain.h"
 #include "common/dds/topics.h"
+#include "common/testing/dds_profiles.h"
 #include "common/testing/subprocess.h"
 
 namespace mostar::server {
@@ -99,6 +103,47 @@ TEST(RobotNodeTest, AFrozenObserverCannotStopTheVideoOfTheOthers) {
   EXPECT_GE(node->lanes_reclaimed(), 10u);
   EXPECT_GT(node->pairs_skipped(), 0u);
   EXPECT_GE(frames_during, 10) << "the other viewer stopped receiving";
+}
+
+// --insecure on a network profile shows in the robot's health; loopback does not.
+TEST(RobotNodeTest, HealthSaysWhenDdsSecurityIsOff) {
+  const std::string dir = testing::MakeTempDir("mostar_robot_node_");
+  const std::string xml = testing::WriteLoopbackUdpProfile(dir, "insecure_robot");
+  ASSERT_NE(xml, "");
+  dds::ParticipantOptions options;
+  options.domain_id = dds::PerProcessDomainId();
+  options.profile = xml;
+  options.xml_participant_profile = "insecure_robot";
+  options.insecure = true;
+  std::string error;
+  auto insecure = dds::Participant::Create(options, &error);
+  ASSERT_NE(insecure, nullptr) << error;
+  auto node = RobotNode::Create(insecure.get(), {}, &SystemClock::Instance(), &error);
+  ASSERT_NE(node, nullptr) << error;
+  const DeviceHealth network = node->NetworkHealth();
+  const auto counter = [](const DeviceHealth& health, const std::string& name) {
+    for (const auto& [key, value] : health.counters) {
+      if (key == name) return value;
+    }
+    ADD_FAILURE() << "no counter " << name;
+    return uint64_t{0};
+  };
+  EXPECT_EQ(counter(network, "dds_security_off"), 1u);
+  EXPECT_EQ(network.state, DeviceState::kWarn);
+  EXPECT_NE(network.message.find("dds security off"), std::string::npos) << network.message;
+  node.reset();
+  insecure.reset();
+
+  auto loopback = MakeParticipant("robot");
+  ASSERT_TRUE(loopback);
+  node = RobotNode::Create(loopback.get(), {}, &SystemClock::Instance(), &error);
+  ASSERT_NE(node, nullptr) << error;
+  EXPECT_EQ(counter(node->NetworkHealth(), "dds_security_off"), 0u);
+  EXPECT_EQ(node->NetworkHealth().state, DeviceState::kOk);
+  EXPECT_EQ(node->NetworkHealth().message.find("dds security off"), std::string::npos);
+  node.reset();
+  std::remove(xml.c_str());
+  ::rmdir(dir.c_str());
 }
 
 TEST(RobotNodeTest, RejectsAnInvalidVideoWindow) {

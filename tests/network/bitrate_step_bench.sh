@@ -52,11 +52,11 @@ for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
 grep -q ready "$work/netem.log" || { cat "$work/netem.log" >&2; exit 1; }
 start_ns=$(date +%s%N)  # the relay's clock for --rate-steps starts with "ready"
 
-ip netns exec "$rns" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
+ip netns exec "$rns" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" --insecure \
   --config "$work/server.pbtxt" --source sim > "$work/server.log" 2>&1 &
 pids+=($!)
 ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator_client" \
-  --headless --domain "$domain" --dds-profile "$work/wan.xml" --id operator --role pilot \
+  --headless --domain "$domain" --dds-profile "$work/wan.xml" --insecure --id operator --role pilot \
   --duration $((total - 1)) --calibration "$src/deploy/config/calibration_sim.pbtxt" \
   --trace "$work/client.csv" > "$work/client.log" 2>&1 &
 client_pid=$!; pids+=("$client_pid")

@@ -24,13 +24,13 @@ domain=$((100 + $$ % 100))
 
 probe() {  # label: run the observer for 8 s in the operator namespace, print its summary line
   timeout 60 ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
-    --dds-profile "$work/ds.xml" --id "$1" --duration-s 8 --no-ping 2>"$work/$1.err" \
+    --dds-profile "$work/ds.xml" --insecure --id "$1" --duration-s 8 --no-ping 2>"$work/$1.err" \
     | grep '^probe:' || echo "probe: none"
 }
 field() { echo "$1" | sed -n "s/.* $2=\([^ ]*\).*/\1/p"; }
 
 ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/ds.xml" \
-  --config "$work/server.pbtxt" --source test_pattern > "$work/server.log" 2>&1 &
+  --insecure --config "$work/server.pbtxt" --source test_pattern > "$work/server.log" 2>&1 &
 pids+=($!)
 # First without the discovery server: clients cannot find each other.
 without=$(probe without_server)

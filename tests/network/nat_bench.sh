@@ -58,6 +58,8 @@ video_quality=${VIDEO_QUALITY:-60}
 observers=${OBSERVERS-obs1 obs2}
 via=${VIA:-relay}
 secure=${SECURE:-1}
+insecure=()  # SECURE=0: the overlay's profiles without DDS Security, allowed by --insecure
+[ "$secure" = 1 ] || insecure=(--insecure)
 
 prefix="mn$$"
 tag=$(echo -n "$prefix" | md5sum | cut -c1-4)
@@ -165,7 +167,7 @@ run_one() {  # index, outage seconds or "readdress"
   overlay_up "$run" || { echo "| $i | $what | overlay did not come up | | | | | | |"; teardown; return; }
   local ov="$run/overlay"
   ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
-    --dds-profile "$ov/robot.dds.xml" --config "$run/../server.pbtxt" --trace "$run/server.csv" \
+    --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" --trace "$run/server.csv" \
     >"$run/server.log" 2>&1 &
   robot_pid=$!; pids+=("$robot_pid")
   local n=${what//[!0-9]/}; n=${n:-0}
@@ -173,14 +175,14 @@ run_one() {  # index, outage seconds or "readdress"
   local obs_domain=$domain
   if [ "$via" = relay ]; then
     obs_domain=$((domain + 1))
-    ip netns exec "${prefix}_hub" "$mostar_relay" --dds-profile "$ov/hub.dds.xml" \
+    ip netns exec "${prefix}_hub" "$mostar_relay" --dds-profile "$ov/hub.dds.xml" "${insecure[@]}" \
       --robot-domain "$domain" --observer-domain "$obs_domain" >"$run/relay.log" 2>&1 &
     pids+=($!)
   fi
   local relay_pid=${pids[-1]}
   for h in $observers; do
     ip netns exec "${prefix}_$h" "$net_probe" --domain "$obs_domain" --dds-profile "$ov/$h.dds.xml" \
-      --id "$h" --duration-s "$total" --samples "$run/$h.csv" >"$run/$h.log" 2>&1 &
+      "${insecure[@]}" --id "$h" --duration-s "$total" --samples "$run/$h.csv" >"$run/$h.log" 2>&1 &
     pids+=($!)
   done
   probe1=""; probe2=""
@@ -189,7 +191,7 @@ run_one() {  # index, outage seconds or "readdress"
   [[ "$observers" != *"obs1 obs2"* ]] || probe1=${pids[-2]}
   ip netns exec "${prefix}_pilot" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" \
     "$operator_client" --headless --domain "$domain" --dds-profile "$ov/pilot.dds.xml" \
-    --id operator --role pilot --duration "$total" --drive "$speed,0" \
+    "${insecure[@]}" --id operator --role pilot --duration "$total" --drive "$speed,0" \
     --calibration "$src/deploy/config/calibration_sim.pbtxt" --trace "$run/client.csv" \
     >"$run/client.log" 2>&1 &
   xvfb_pid=$!; pids+=("$xvfb_pid")

@@ -112,6 +112,8 @@ int Main(int argc, char** argv) {
   app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--dds-profile", options.profile, "'loopback' or a Fast DDS XML profiles file");
   app.add_option("--profile-name", options.name, "participant profile in the XML file");
+  app.add_flag("--insecure", options.insecure,
+               "allow a network DDS profile without DDS Security (as the programs do)");
   app.add_option("--id", id, "sender id of the clock pings");
   app.add_option("--duration-s", duration_s, "measure for this long")
       ->check(CLI::Range(0.5, 3600.0));

@@ -50,7 +50,7 @@ sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" -e "s|jpeg_quality: 
 domain=$((100 + $$ % 100))
 
 ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
-  --config "$work/server.pbtxt" --source test_pattern \
+  --insecure --config "$work/server.pbtxt" --source test_pattern \
   --trace "$work/server.csv" > "$work/server.log" 2>&1 &
 server_pid=$!
 pids+=("$server_pid")
@@ -58,7 +58,7 @@ sleep 1
 set +e
 # A bounded run: a client stuck in a blocked DDS write must fail the test, not hang it.
 timeout -k 5 $((duration + 40)) ip netns exec "${prefix}_operator" xvfb-run -a "$operator_client" --headless --domain "$domain" \
-  --dds-profile "$work/wan.xml" --id operator --duration "$duration" --drive 0.2,0 \
+  --dds-profile "$work/wan.xml" --insecure --id operator --duration "$duration" --drive 0.2,0 \
   --calibration "$src/deploy/config/calibration_sim.pbtxt" \
   --trace "$work/client.csv" > "$work/client.log" 2>&1 &
 client_pid=$!

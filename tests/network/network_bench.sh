@@ -40,12 +40,12 @@ row() {  # label, robot netns, probe netns, profile, hz, quality
   local label=$1 rns=$2 pns=$3 profile=$4 hz=$5 q=$6 domain=$((100 + RANDOM % 100))
   local cfg; cfg=$(config "$hz" "$q")
   ${rns:+ip netns exec "$rns"} "$robot_server" --domain "$domain" --dds-profile "$profile" \
-    --config "$cfg" --source test_pattern > "$work/robot.log" 2>&1 &
+    --insecure --config "$cfg" --source test_pattern > "$work/robot.log" 2>&1 &
   pids+=($!)
   sleep 1
   local out
   out=$(timeout -k 5 $((seconds + warmup + 30)) ${pns:+ip netns exec "$pns"} "$net_probe" --domain "$domain" \
-        --dds-profile "$profile" --duration-s "$((seconds + warmup + 2))" --warmup-s "$warmup" \
+        --dds-profile "$profile" --insecure --duration-s "$((seconds + warmup + 2))" --warmup-s "$warmup" \
         2>/dev/null | grep '^probe:' || echo "probe: hung")
   stop_all
   f() { echo "$out" | sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }

@@ -142,21 +142,21 @@ run_outage() {  # outage seconds
   grep -q ready "$run/netem.log" || { cat "$run/netem.log" >&2; echo "outage_bench: netem_relay failed" >&2; exit 1; }
 
   ip netns exec "$rns" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
-    --config "$work/server.pbtxt" --source test_pattern --trace "$run/server.csv" \
+    --insecure --config "$work/server.pbtxt" --source test_pattern --trace "$run/server.csv" \
     --record "$run/robot.mrec" > "$run/server.log" 2>&1 &
   local robot_pid=$!; pids+=("$robot_pid")
   sleep 1
   local probe_pid=""
   if [ "${PROBE:-1}" = 1 ]; then
-    ip netns exec "$ons" "$net_probe" --domain "$domain" --dds-profile "$work/wan.xml" --no-ping \
+    ip netns exec "$ons" "$net_probe" --domain "$domain" --dds-profile "$work/wan.xml" --insecure --no-ping \
       --duration-s "$total" --samples "$run/probe.csv" > "$run/probe.log" 2>&1 &
     probe_pid=$!; pids+=("$probe_pid")
     # The probe first, the pilot a little later: their DDS discoveries do not overlap.
     sleep "${PROBE_LEAD_S:-3}"
   fi
   ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator_client" \
-    --headless --domain "$domain" --dds-profile "$work/wan.xml" --id operator --role pilot \
-    --duration "$total" --drive "$speed,0" \
+    --headless --domain "$domain" --dds-profile "$work/wan.xml" --insecure --id operator \
+    --role pilot --duration "$total" --drive "$speed,0" \
     --calibration "$src/deploy/config/calibration_sim.pbtxt" \
     --trace "$run/client.csv" > "$run/client.log" 2>&1 &
   local xvfb_pid=$!; pids+=("$xvfb_pid")

@@ -73,7 +73,7 @@ probe() {  # name, profile, extra args...
     --duration-s 8 "$@" > "$work/$name.out" 2> "$work/$name.err" &
 }
 probe observer "$work/pki/watcher.xml" --try-command-writer
-probe plain "$profile"
+probe plain "$profile" --insecure
 probe foreign "$work/rogue/watcher.xml"
 probe forged "$work/forged/watcher.xml" --try-command-writer
 probe revoked "$work/revoked_pilot_no_crl.xml"

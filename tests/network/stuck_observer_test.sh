@@ -44,12 +44,12 @@ user_timeout_ms=${user_timeout_ms:-4000}  # the default of server_config.proto
 domain=$((100 + $$ % 100))
 
 ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile "$work/wan.xml" \
-  --config "$work/server.pbtxt" --source test_pattern > "$work/server.log" 2>&1 &
+  --insecure --config "$work/server.pbtxt" --source test_pattern > "$work/server.log" 2>&1 &
 server_pid=$!; pids+=("$server_pid")
 sleep 1
 for who in a b; do
   timeout $((run_s + 30)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
-    --dds-profile "$work/wan.xml" --id "observer_${who}_$$" --duration-s "$run_s" --no-ping \
+    --dds-profile "$work/wan.xml" --insecure --id "observer_${who}_$$" --duration-s "$run_s" --no-ping \
     --samples "$work/$who.csv" > "$work/$who.out" 2>&1 &
   pids+=($!)
 done

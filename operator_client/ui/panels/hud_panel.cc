@@ -12,6 +12,10 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                    ImGuiWindowFlags_NoMove);
+  if (status.dds_security_off) {
+    ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1),
+                       "DDS SECURITY OFF (--insecure): anyone on the network can watch and drive");
+  }
   ImGui::Text("video %.1f fps  %.2f Mbit/s  age %.0f ms", video.pair_rate_hz,
               video.bitrate_bps / 1e6, status.has_pair ? status.display_age_ms : 0.0);
   ImGui::Text("scan %.1f Hz  frame %.1f ms  %s", robot.scan_rate_hz, status.frame_time_ms,

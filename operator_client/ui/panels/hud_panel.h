@@ -27,6 +27,8 @@ struct HudStatus {
   std::string status_line;  // may be empty
   // An e-stop engagement (true) or release (false) sent and not yet reported by the robot.
   std::optional<bool> pending_estop;
+  // This client runs a network DDS profile without DDS Security (--insecure): a warning line.
+  bool dds_security_off = false;
 };
 
 // `now`: steady time, for the ages of the last samples.
