@@ -905,7 +905,8 @@ class Suite {
   }
 
   // 8. An observer engages the e-stop (which it may); then everyone tries to release it: as
-  // itself, as the lease holder, as the claimed pilot.
+  // itself, as the lease holder (and the victim, should the lease be changing hands), as the
+  // claimed pilot.
   void EstopReleaseWithoutTheHoldersIdentity() {
     const std::string engager =
         options_.observer_cert.empty() || options_.pki.empty() ? "carol" : options_.observer_cert;
@@ -922,7 +923,7 @@ class Suite {
     const std::string holder = witness_.Holder();
     for (int i = 0; i < 10; ++i) {
       for (const Attacker& a : attackers_) {
-        for (const std::string& id : Ids(a, {engager, holder, options_.claim})) {
+        for (const std::string& id : Ids(a, {engager, holder, options_.victim, options_.claim})) {
           WriteEstop(a.estop, id, false);
         }
       }
@@ -931,9 +932,9 @@ class Suite {
     witness_.WaitFreshHealth();
     Report("estop_release_as_observer", !witness_.Estop(),
            "engaged_by=" + engager + " released_as=" + engager + "," + holder + "," +
-               options_.claim + " estop_engaged=" + (witness_.Estop() ? "1" : "0") +
-               " estop_refused=" + std::to_string(refused_before) + "->" +
-               std::to_string(witness_.Counter("drive_safety", "estop_refused")) +
+               options_.victim + "," + options_.claim + " estop_engaged=" +
+               (witness_.Estop() ? "1" : "0") + " estop_refused=" + std::to_string(refused_before) +
+               "->" + std::to_string(witness_.Counter("drive_safety", "estop_refused")) +
                Counters({"network.dropped_estop"}));
   }
 
