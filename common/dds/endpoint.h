@@ -16,6 +16,7 @@
 #include <array>
 #include <atomic>
 #include <cstring>
+#include <exception>
 #include <fastdds/dds/core/status/LivelinessChangedStatus.hpp>
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
 #include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
@@ -34,6 +35,24 @@
 #include "common/dds/writer_id.h"
 
 namespace mostar::dds {
+
+// A fastddsgen type that refuses (returns false for) a sample it cannot decode. The generated
+// deserialize catches only fastcdr's NotEnoughMemoryException: any other (BadParamException for
+// an unknown encapsulation byte) went up through Fast DDS's take into the listener thread and
+// ended the process, so one malformed sample from any writer on the topic stopped the robot.
+// Writers use it too, since whichever endpoint registers a type name first in a participant
+// decides the type its readers decode with. Fast DDS skips a refused sample.
+template <class PubSubType>
+class RefuseUndecodable : public PubSubType {
+ public:
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override {
+    try {
+      return PubSubType::deserialize(payload, data);
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+};
 
 // The writer behind a SampleInfo::publication_handle or a LivelinessChangedStatus.
 inline WriterId WriterIdFromHandle(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
@@ -80,7 +99,8 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
          const eprosima::fastdds::dds::DataWriterQos& qos)
       : participant_(participant) {
     auto* topic = participant.GetTopic(
-        topic_name, eprosima::fastdds::dds::TypeSupport(new PubSubType()), &error_);
+        topic_name, eprosima::fastdds::dds::TypeSupport(new RefuseUndecodable<PubSubType>()),
+        &error_);
     if (topic == nullptr) return;
     writer_ = participant.publisher()->create_datawriter(
         topic, qos, this, eprosima::fastdds::dds::StatusMask::publication_matched());
@@ -154,7 +174,8 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
         callback_(std::move(callback)),
         on_liveliness_(std::move(on_liveliness)) {
     auto* topic = participant.GetTopic(
-        topic_name, eprosima::fastdds::dds::TypeSupport(new PubSubType()), &error_);
+        topic_name, eprosima::fastdds::dds::TypeSupport(new RefuseUndecodable<PubSubType>()),
+        &error_);
     if (topic == nullptr) return;
     using eprosima::fastdds::dds::StatusMask;
     reader_ = participant.subscriber()->create_datareader(topic, ReaderQos(stream), this,

@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -161,6 +162,29 @@ TEST(EndpointTest, ScanFlowsBetweenParticipants) {
   EXPECT_EQ(got.back().ranges_m, scan.ranges_m);
   ASSERT_TRUE(reader.Latest().has_value());
   EXPECT_EQ(reader.Latest()->ranges().size(), 3u);
+}
+
+// A payload with an unknown encapsulation makes fastcdr throw BadParamException, which the
+// generated deserialize lets through (it ended robot_server: tests/security/attack_test.sh,
+// malformed_samples); the endpoints' type refuses the sample instead.
+TEST(EndpointTest, AnUndecodableSampleIsRefusedNotThrown) {
+  const uint8_t bytes[] = {0xFF, 0xFF, 0x00, 0x00, 1, 2, 3, 4, 5, 6, 7, 8};
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(sizeof(bytes));
+  std::memcpy(payload.data, bytes, sizeof(bytes));
+  payload.length = sizeof(bytes);
+  wire::VelocityCommand command;
+  CommandType generated;
+  EXPECT_ANY_THROW(generated.deserialize(&payload, &command));
+  RefuseUndecodable<CommandType> refusing;
+  EXPECT_FALSE(refusing.deserialize(&payload, &command));
+
+  // A valid sample still decodes.
+  wire::VelocityCommand sent;
+  sent.sequence_number(42);
+  eprosima::fastrtps::rtps::SerializedPayload_t good(generated.getSerializedSizeProvider(&sent)());
+  ASSERT_TRUE(generated.serialize(&sent, &good));
+  EXPECT_TRUE(refusing.deserialize(&good, &command));
+  EXPECT_EQ(command.sequence_number(), 42u);
 }
 
 TEST(EndpointTest, StateStreamReachesLateJoiner) {

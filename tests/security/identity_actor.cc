@@ -71,6 +71,8 @@ int Run(int argc, char** argv) {
   app.add_option("--estop", initial.estop, "engage | release")
       ->check(CLI::IsMember({"engage", "release"}));
   app.add_flag("--pings", pings, "send clock pings");
+  bool insecure = false;
+  app.add_flag("--insecure", insecure, "allow a network profile without DDS Security");
   bool stdin_plan = false;
   app.add_flag("--stdin", stdin_plan, "read plan changes from standard input");
   CLI11_PARSE(app, argc, argv);
@@ -79,6 +81,7 @@ int Run(int argc, char** argv) {
   options.domain_id = domain;
   options.profile = profile;
   options.name = "operator";
+  options.insecure = insecure;
   std::string error;
   auto participant = dds::Participant::Create(options, &error);
   if (!participant) {

@@ -1,0 +1,151 @@
+#!/usr/bin/env bash
+# The attack suite (issue #16) against the real robot_server on the simulator, across a veth
+# pair between two network namespaces: the robot in one, a live pilot (identity_actor as
+# "alice") and the attacker (tests/security/attacker.cc, a raw DDS participant) in the other.
+# Runs twice on deploy/dds/lan.xml: without DDS Security, then with the PKI of make_pki.sh
+# (robot, pilots alice and mallory, observers carol and watcher; bob is a pilot of the role table
+# nobody has a certificate for). Prints the table attack | insecure | secure | how it is stopped.
+#
+# Usage: attack_test.sh ROBOT_SERVER ATTACKER IDENTITY_ACTOR SOURCE_DIR
+#
+# Checks: on the secure profile every attack is blocked, and the robot is alive and still
+# publishing health at the end; without DDS Security the attacks the design leaves open there
+# (docs/security.md, Attacks) are open, and the robot survives the floods and malformed samples.
+# Exit 77 (CTest: skipped) when network namespaces cannot be created.
+set -euo pipefail
+[ $# -eq 4 ] || { echo "usage: attack_test.sh ROBOT_SERVER ATTACKER IDENTITY_ACTOR SOURCE_DIR" >&2; exit 2; }
+robot_server=$1; attacker=$2; actor=$3; src=$4
+net="$src/tests/network"
+"$net/netns.sh" check || exit 77
+
+prefix="matk$$"
+work=$(mktemp -d /tmp/mostar_attacks_XXXXXX)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  sleep 1
+  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
+  "$net/netns.sh" down "$prefix" || true
+  if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
+}
+trap cleanup EXIT
+trap "exit 1" INT TERM
+"$net/netns.sh" up "$prefix"
+robot_ns="${prefix}_robot"; operator_ns="${prefix}_operator"
+# lan.xml discovers by multicast: send it over the veth pair, not the namespace's loopback.
+for ns in "$robot_ns" "$operator_ns"; do ip -n "$ns" route replace 224.0.0.0/4 dev veth0; done
+domain=$((120 + $$ % 100))
+profile="$src/deploy/dds/lan.xml"
+
+"$src/deploy/security/make_pki.sh" "$work/pki" --profile "$profile" --pilot alice \
+  --pilot mallory --observer carol --observer watcher > "$work/make_pki.log" 2>&1 \
+  || { cat "$work/make_pki.log"; exit 1; }
+# The certificates the insiders announce in USER_DATA, as mostar participants do.
+for n in mallory carol; do
+  openssl x509 -in "$work/pki/$n.cert.pem" -outform der -out "$work/pki/$n.cert.der"
+done
+
+# The simulated robot; its role table names the certificates' CNs (and bob, who has none).
+cat > "$work/robot.pbtxt" <<EOF
+robot_id: "attack-target"
+source: SIM
+scene_file: "$src/deploy/scenes/corridor.pbtxt"
+test_pattern { frame_rate_hz: 10 jpeg_quality: 60 }
+laser { baud: 38400 angle_deg: 180 resolution_cdeg: 100 unit: MM }
+drive {
+  limits { max_linear_mps: 0.6 max_reverse_mps: 0.2 max_angular_radps: 1.0 }
+  safety { deadman_period_ms: 250 max_command_age_ms: 300 stop_distance_m: 0.30 slow_distance_m: 1.20 }
+  geometry { robot_width_m: 0.68 front_extent_m: 0.15 }
+  roles { client_id: "alice" role: PILOT strength: 10 }
+  roles { client_id: "bob" role: PILOT strength: 20 }
+  roles { client_id: "mallory" role: PILOT strength: 5 }
+  roles { client_id: "carol" role: OBSERVER }
+  roles { client_id: "watcher" role: OBSERVER }
+}
+EOF
+
+# One run: robot_server, alice holding the lease, the attacker. MODE insecure|secure.
+run() {
+  local mode=$1 robot_profile=$2 alice_profile=$3; shift 3
+  local extra=()
+  [ "$mode" != insecure ] || extra+=(--insecure)  # lan.xml has no DDS Security
+  ip netns exec "$robot_ns" "$robot_server" --domain "$domain" --config "$work/robot.pbtxt" \
+    --dds-profile "$robot_profile" "${extra[@]}" > "$work/$mode.robot.log" 2>&1 &
+  local robot_pid=$!
+  pids+=("$robot_pid")
+  ip netns exec "$operator_ns" "$actor" --domain "$domain" --dds-profile "$alice_profile" \
+    "${extra[@]}" --sender-id alice --take --commands idle --pings --duration-s 240 \
+    > "$work/$mode.alice.log" 2>&1 &
+  local alice_pid=$!
+  pids+=("$alice_pid")
+  local status=0
+  ip netns exec "$operator_ns" timeout 200 "$attacker" --domain "$domain" --victim alice \
+    --claim bob --robot-pid "$robot_pid" "$@" > "$work/$mode.attacks" 2> "$work/$mode.attacker.err" \
+    || status=$?
+  cat "$work/$mode.attacks"
+  [ "$status" -eq 0 ] || { echo "FAIL: attacker exited with $status ($mode)"; tail -20 "$work/$mode.attacker.err"; }
+  if kill -0 "$robot_pid" 2>/dev/null; then echo "$mode: robot_server alive at the end" > "$work/$mode.alive"; fi
+  kill "$alice_pid" 2>/dev/null || true
+  wait "$alice_pid" 2>/dev/null || true
+  kill "$robot_pid" 2>/dev/null || true
+  wait "$robot_pid" 2>/dev/null || true
+}
+
+echo "== without DDS Security (lan.xml)"
+run insecure "$profile" "$profile"
+echo "== DDS Security (lan.xml through make_pki.sh)"
+run secure "$work/pki/robot.xml" "$work/pki/alice.xml" --pki "$work/pki" --pilot-cert mallory \
+  --observer-cert carol --witness-cert watcher
+
+attacks="eavesdrop lease_as_another_pilot arm_and_drive_forward reverse hijack_live_pilot
+  replay_stale_command forged_clock_pings estop_release_as_observer strings_1mb
+  distinct_ids_10000 malformed_samples"
+# The attacks the design leaves open without DDS Security: anyone reads, and ids are taken as
+# written (docs/security.md, Attacks).
+open_insecure="eavesdrop lease_as_another_pilot arm_and_drive_forward reverse hijack_live_pilot
+  estop_release_as_observer"
+outcome() { sed -n "s/^ATTACK name=$2 outcome=\([a-z]*\) .*/\1/p" "$work/$1.attacks" | head -1; }
+how() {
+  case $1 in
+    eavesdrop) echo "authentication required, topic data encrypted (governance)" ;;
+    lease_as_another_pilot) echo "I1: sender_id must be the writer's certificate CN" ;;
+    arm_and_drive_forward|reverse) echo "I1, then L1/G1: only the lease holder's commands count" ;;
+    hijack_live_pilot) echo "I1; shared ownership (an exclusive writer does not match); L3 strengths from the role table" ;;
+    replay_stale_command) echo "G3/G4 stale stamps refused (with or without Security); I1" ;;
+    forged_clock_pings) echo "I1: pings under another id dropped; offsets per verified id" ;;
+    estop_release_as_observer) echo "G10: only the lease holder releases; I1" ;;
+    strings_1mb) echo "bounded IDL; readers preallocate the maximum sample size and refuse bigger ones" ;;
+    distinct_ids_10000) echo "I1 drops other ids; at most 32 clock clients; bounded reader histories" ;;
+    malformed_samples) echo "samples that do not deserialize are dropped; I1 and the governor check the rest" ;;
+  esac
+}
+echo
+echo "| attack | insecure | secure | how it is stopped |"
+echo "|---|---|---|---|"
+for a in $attacks; do
+  echo "| $a | $(outcome insecure "$a") | $(outcome secure "$a") | $(how "$a") |"
+done
+echo
+
+failures=0
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi; }
+for a in $attacks; do
+  check "secure: $a blocked" '[ "$(outcome secure "$a")" = blocked ]'
+done
+for a in $open_insecure; do
+  check "insecure: $a open" '[ "$(outcome insecure "$a")" = open ]'
+done
+for a in $attacks; do
+  check "insecure: $a ran" '[ -n "$(outcome insecure "$a")" ] && [ "$(outcome insecure "$a")" != error ]'
+done
+robot_line() { sed -n "s/^ROBOT \(.*\)/\1/p" "$work/$1.attacks"; }
+for mode in insecure secure; do
+  check "$mode: robot_server alive at the end" '[ -f "$work/$mode.alive" ]'
+  check "$mode: robot still publishing health at the end" \
+    'robot_line $mode | grep -q "alive=yes" && awk -v s="$(robot_line $mode | sed -n "s/.*health_age_s=\([0-9.]*\).*/\1/p")" "BEGIN { exit !(s != \"\" && s < 2) }"'
+done
+if [ "$failures" -ne 0 ]; then
+  for mode in insecure secure; do echo "--- $mode robot log"; tail -15 "$work/$mode.robot.log"; done
+  exit 1
+fi
+echo "attack_test: all checks passed"

