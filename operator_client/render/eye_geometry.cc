@@ -116,4 +116,37 @@ void FromProfile(const math::StereoAlignmentProfile& p, AlignmentModel* model, E
   }
 }
 
+bool StereoGeometry::Update(const math::LaserCameraCalibration& left,
+                            const math::LaserCameraCalibration& right, AlignmentModel model,
+                            const EyeAlignment& left_alignment, const EyeAlignment& right_alignment,
+                            std::string* error) {
+  error->clear();
+  const math::LaserCameraCalibration* calibrations[2] = {&left, &right};
+  const EyeAlignment* alignments[2] = {&left_alignment, &right_alignment};
+  std::string key = math::ToProto(left).SerializeAsString() + "|" +
+                    math::ToProto(right).SerializeAsString() + "|" + AlignmentModelName(model);
+  for (const EyeAlignment* a : alignments) {
+    key += "|" + std::to_string(a->offset_x_px) + "," + std::to_string(a->offset_y_px);
+  }
+  if (key == key_ && ready()) return false;
+  std::optional<EyeGeometry> next[2];
+  for (int e = 0; e < 2; ++e) {
+    const math::Eye eye = e == 0 ? math::Eye::kLeft : math::Eye::kRight;
+    std::string why;
+    next[e] = MakeEyeGeometry(*calibrations[e], eye, *alignments[e], model, &why);
+    if (next[e]) continue;
+    *error = why;
+    if (ready()) return false;  // keep the previous geometry
+    next[e] = MakeEyeGeometry(*calibrations[e], eye, {}, model, &why);
+    if (!next[e]) {
+      *error = why;
+      return false;
+    }
+  }
+  key_ = key;
+  eyes_[0] = next[0];
+  eyes_[1] = next[1];
+  return true;
+}
+
 }  // namespace mostar::render

@@ -65,6 +65,26 @@ std::optional<EyeGeometry> MakeEyeGeometry(const math::LaserCameraCalibration& c
                                            math::Eye eye, const EyeAlignment& alignment,
                                            AlignmentModel model, std::string* error);
 
+// Both eyes' geometry, rebuilt only when an input changes (the console asks every frame). An
+// offset that moves a principal point out of the image is refused: the previous geometry stays,
+// or at the first build the geometry without offsets. Pure.
+class StereoGeometry {
+ public:
+  // True when the geometry changed. `error` gets why an eye's alignment was refused (empty when
+  // none was). False with `error` and no geometry only when even the calibration without
+  // offsets is invalid.
+  bool Update(const math::LaserCameraCalibration& left, const math::LaserCameraCalibration& right,
+              AlignmentModel model, const EyeAlignment& left_alignment,
+              const EyeAlignment& right_alignment, std::string* error);
+  bool ready() const { return eyes_[0].has_value() && eyes_[1].has_value(); }
+  // The eye's geometry; only when ready(). 0 = left, 1 = right.
+  const EyeGeometry& eye(int e) const { return *eyes_[e]; }
+
+ private:
+  std::string key_;  // the inputs of the current geometry
+  std::optional<EyeGeometry> eyes_[2];
+};
+
 // What the image shader needs: for a displayed pixel q, the camera-image pixel it shows is
 //   image_c + f * Distort((q - display_c) / f)   (per axis f = fx or fy, c = (cx, cy)),
 // which with no distortion is q - offset.

@@ -126,5 +126,42 @@ TEST(EyeGeometryTest, ProfileRoundTrip) {
   EXPECT_TRUE(right_back == right);
 }
 
+TEST(StereoGeometryTest, RebuildsOnlyWhenAnInputChanges) {
+  StereoGeometry geometry;
+  std::string error;
+  const math::LaserCameraCalibration c = Distorted();
+  EyeAlignment right;
+  EXPECT_FALSE(geometry.ready());
+  EXPECT_TRUE(geometry.Update(c, c, AlignmentModel::kSharedModel, {}, right, &error)) << error;
+  EXPECT_TRUE(geometry.ready());
+  EXPECT_FALSE(geometry.Update(c, c, AlignmentModel::kSharedModel, {}, right, &error));
+  right.offset_y_px = -5;
+  EXPECT_TRUE(geometry.Update(c, c, AlignmentModel::kSharedModel, {}, right, &error)) << error;
+  EXPECT_TRUE(error.empty()) << error;
+  EXPECT_TRUE(geometry.Update(c, c, AlignmentModel::kPerEyeIntrinsics, {}, right, &error));
+}
+
+TEST(StereoGeometryTest, AnOffsetOutOfTheImageKeepsThePreviousGeometryAndSaysWhy) {
+  StereoGeometry geometry;
+  std::string error;
+  const math::LaserCameraCalibration c = Distorted();
+  EyeAlignment far;
+  far.offset_x_px = 1e6f;
+  // First build: nothing to keep, the geometry without offsets, and the reason.
+  EXPECT_TRUE(geometry.Update(c, c, AlignmentModel::kPerEyeIntrinsics, {}, far, &error));
+  EXPECT_FALSE(error.empty());
+  ASSERT_TRUE(geometry.ready());
+  const double cx = geometry.eye(1).display.calibration().cx();
+  EyeAlignment near;
+  near.offset_x_px = 4;
+  EXPECT_TRUE(geometry.Update(c, c, AlignmentModel::kPerEyeIntrinsics, {}, near, &error));
+  const double moved_cx = geometry.eye(1).display.calibration().cx();
+  EXPECT_NE(moved_cx, cx);
+  // Refused later: the last good geometry stays.
+  EXPECT_FALSE(geometry.Update(c, c, AlignmentModel::kPerEyeIntrinsics, {}, far, &error));
+  EXPECT_FALSE(error.empty());
+  EXPECT_EQ(geometry.eye(1).display.calibration().cx(), moved_cx);
+}
+
 }  // namespace
 }  // namespace mostar::render

@@ -43,6 +43,8 @@ bool OperatorConsole::Init(std::string* error) {
     if (math::LoadCalibrationProfile(options_.calibration_path, &calibration, &alignment, &why)) {
       render::FromProfile(alignment, &options_.alignment_model, &options_.left_alignment,
                           &options_.right_alignment);
+    } else {
+      MOSTAR_LOG(WARNING) << "stereo alignment not loaded, starting without offsets: " << why;
     }
   }
   imgui_ = std::make_unique<ImGuiLayer>(window_->get());
@@ -127,38 +129,17 @@ math::LaserCameraCalibration OperatorConsole::EyeCalibration(math::Eye eye,
 }
 
 void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
-  const math::LaserCameraCalibration calibrations[2] = {EyeCalibration(math::Eye::kLeft, robot),
-                                                        EyeCalibration(math::Eye::kRight, robot)};
-  std::string key = math::ToProto(calibrations[0]).SerializeAsString() + "|" +
-                    math::ToProto(calibrations[1]).SerializeAsString() + "|" +
-                    render::AlignmentModelName(options_.alignment_model);
-  for (const render::EyeAlignment& a : {options_.left_alignment, options_.right_alignment}) {
-    key += "|" + std::to_string(a.offset_x_px) + "," + std::to_string(a.offset_y_px);
-  }
-  if (key == geometry_key_ && geometry_[0] && geometry_[1]) return;
-  std::optional<render::EyeGeometry> next[2];
-  for (int e = 0; e < 2; ++e) {
-    std::string error;
-    next[e] =
-        render::MakeEyeGeometry(calibrations[e], e == 0 ? math::Eye::kLeft : math::Eye::kRight,
-                                e == 0 ? options_.left_alignment : options_.right_alignment,
-                                options_.alignment_model, &error);
-    if (!next[e]) {
-      status_line_ = "alignment: " + error;
-      if (geometry_[0] && geometry_[1]) return;
-      // Nothing to keep yet: the calibration without offsets (valid, checked in Init).
-      next[e] =
-          render::MakeEyeGeometry(calibrations[e], e == 0 ? math::Eye::kLeft : math::Eye::kRight,
-                                  {}, options_.alignment_model, &error);
-      MOSTAR_CHECK(next[e].has_value()) << error;
-    }
-  }
-  geometry_key_ = key;
+  std::string error;
+  const bool changed = geometry_.Update(
+      EyeCalibration(math::Eye::kLeft, robot), EyeCalibration(math::Eye::kRight, robot),
+      options_.alignment_model, options_.left_alignment, options_.right_alignment, &error);
+  if (!error.empty()) status_line_ = "alignment: " + error;
+  // The calibration without offsets was checked in Init: there is always a geometry.
+  MOSTAR_CHECK(geometry_.ready()) << error;
+  if (!changed) return;
   hint_gate_.GeometryChanged(last_submitted_);
-  geometry_[0] = next[0];
-  geometry_[1] = next[1];
-  left_model_ = std::make_shared<const math::CameraModel>(geometry_[0]->image);
-  right_model_ = std::make_shared<const math::CameraModel>(geometry_[1]->image);
+  left_model_ = std::make_shared<const math::CameraModel>(geometry_.eye(0).image);
+  right_model_ = std::make_shared<const math::CameraModel>(geometry_.eye(1).image);
 }
 
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
@@ -247,7 +228,7 @@ bool OperatorConsole::Frame() {
   for (int e = 0; e < 2; ++e) {
     static const cv::Mat kEmpty;
     const cv::Mat& image = pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
-    eyes_[e].Render(image, render::MakeEyeView(*geometry_[e]), overlay,
+    eyes_[e].Render(image, render::MakeEyeView(geometry_.eye(e)), overlay,
                     e == 0 ? options_.left_alignment : options_.right_alignment);
   }
   int fb_w = 0;
@@ -289,7 +270,7 @@ std::optional<StereoOffsetHint> OperatorConsole::OffsetHint() const {
   const vision::StereoOffsetEstimate& estimate = result->nesc.offset;
   return hint_gate_.Hint(
       result->sequence, estimate,
-      render::SuggestedRightOffsetY(*geometry_[0], *geometry_[1], options_.left_alignment,
+      render::SuggestedRightOffsetY(geometry_.eye(0), geometry_.eye(1), options_.left_alignment,
                                     estimate.vertical_offset_px));
 }
 
@@ -298,8 +279,8 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
                                  const std::optional<client::DecodedStereoPair>& pair, int fb_w,
                                  int fb_h) {
   if (options_.ar.labels_enabled) {
-    DrawLabelsPanel(features, geometry_[0]->display, geometry_[1]->display, options_.mode, fb_w,
-                    fb_h);
+    DrawLabelsPanel(features, geometry_.eye(0).display, geometry_.eye(1).display, options_.mode,
+                    fb_w, fb_h);
   }
   if (options_.show_hud) {
     HudStatus hud;

@@ -142,10 +142,9 @@ class OperatorConsole {
   std::unique_ptr<vision::EdgeWorker> edge_worker_;
   // Each eye's image and display models (eye_geometry.h); the image models are shared with the
   // edge worker (its ray cache) until the geometry changes.
-  std::optional<render::EyeGeometry> geometry_[2];
+  render::StereoGeometry geometry_;  // both eyes, rebuilt when an input changes
   std::shared_ptr<const math::CameraModel> left_model_;
   std::shared_ptr<const math::CameraModel> right_model_;
-  std::string geometry_key_;
   uint64_t last_submitted_ = 0;  // sequence of the last pair handed to the edge worker
   StereoHintGate hint_gate_;
   FramePicker picker_;
