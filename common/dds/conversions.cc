@@ -1,5 +1,6 @@
 #include "common/dds/conversions.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mostar::dds {
@@ -282,6 +283,100 @@ ClockProbe FromIdl(const wire::ClockProbe& probe) {
   out.t1 = FromIdl(probe.t1());
   out.t2 = FromIdl(probe.t2());
   out.t3 = FromIdl(probe.t3());
+  return out;
+}
+
+namespace {
+
+mostar_msgs::msg::dds_::SonarReading_ ToReading(const SonarRange& r) {
+  mostar_msgs::msg::dds_::SonarReading_ out;
+  out.frame_id(r.mount.frame_id);
+  out.x_m(static_cast<float>(r.mount.x_m));
+  out.y_m(static_cast<float>(r.mount.y_m));
+  out.yaw_rad(static_cast<float>(r.mount.yaw_rad));
+  out.stamp(ToIdl(r.stamp));
+  out.range_m(r.range_m);
+  out.min_range_m(r.min_range_m);
+  out.max_range_m(r.max_range_m);
+  out.field_of_view_rad(r.field_of_view_rad);
+  return out;
+}
+
+}  // namespace
+
+wire::SonarRing ToIdl(const SonarRanges& ranges) {
+  wire::SonarRing out;
+  out.cycle(ranges.cycle);
+  Time newest{};
+  for (const SonarRange& r : ranges.ranges) {
+    if (out.sensors().size() >= kMaxSonars) break;
+    out.sensors().push_back(ToReading(r));
+    newest = std::max(newest, r.stamp);
+  }
+  out.stamp(ToIdl(newest));
+  return out;
+}
+
+SonarRanges FromIdl(const wire::SonarRing& ring) {
+  SonarRanges out;
+  out.cycle = ring.cycle();
+  for (const auto& w : ring.sensors()) {
+    SonarRange r;
+    r.mount.frame_id = w.frame_id().to_string();
+    r.mount.x_m = w.x_m();
+    r.mount.y_m = w.y_m();
+    r.mount.yaw_rad = w.yaw_rad();
+    r.stamp = FromIdl(w.stamp());
+    r.range_m = w.range_m();
+    r.min_range_m = w.min_range_m();
+    r.max_range_m = w.max_range_m();
+    r.field_of_view_rad = w.field_of_view_rad();
+    out.ranges.push_back(std::move(r));
+  }
+  return out;
+}
+
+wire::Range ToIdl(const SonarRange& range) {
+  wire::Range out;
+  out.header().stamp(ToIdl(range.stamp));
+  out.header().frame_id(range.mount.frame_id);
+  out.radiation_type(0);  // ULTRASOUND
+  out.field_of_view(range.field_of_view_rad);
+  out.min_range(range.min_range_m);
+  out.max_range(range.max_range_m);
+  out.range(range.range_m);
+  out.variance(0);
+  return out;
+}
+
+SonarRange FromIdl(const wire::Range& range) {
+  SonarRange out;
+  out.mount.frame_id = range.header().frame_id();
+  out.stamp = FromIdl(range.header().stamp());
+  out.field_of_view_rad = range.field_of_view();
+  out.min_range_m = range.min_range();
+  out.max_range_m = range.max_range();
+  out.range_m = range.range();
+  return out;
+}
+
+wire::BumperState ToIdl(const BumperState& state) {
+  wire::BumperState out;
+  out.stamp(ToIdl(state.stamp));
+  out.segment_count(static_cast<uint8_t>(std::clamp(state.segment_count, 0, kMaxBumperSegments)));
+  out.pressed(state.pressed);
+  out.latched(state.latched);
+  out.readable(state.readable);
+  return out;
+}
+
+BumperState FromIdl(const wire::BumperState& state) {
+  BumperState out;
+  out.stamp = FromIdl(state.stamp());
+  out.segment_count = std::min<int>(state.segment_count(), kMaxBumperSegments);
+  out.pressed = state.pressed();
+  out.latched = state.latched();
+  out.readable = state.readable();
   return out;
 }
 

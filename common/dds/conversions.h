@@ -8,10 +8,12 @@
 #pragma once
 
 #include "common/time/time.h"
+#include "common/types/bumper.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
 #include "mostar_msgs.h"
 #include "ros2_msgs.h"
@@ -30,11 +32,17 @@ using ControlRequest = mostar_msgs::msg::dds_::ControlRequest_;
 using ControlLease = mostar_msgs::msg::dds_::ControlLease_;
 using RobotHealth = mostar_msgs::msg::dds_::RobotHealth_;
 using ClockProbe = mostar_msgs::msg::dds_::ClockProbe_;
+using Range = sensor_msgs::msg::dds_::Range_;
+using SonarRing = mostar_msgs::msg::dds_::SonarRing_;
+using BumperState = mostar_msgs::msg::dds_::BumperState_;
 }  // namespace wire
 
 // Bounds of RobotHealth_ (idl/mostar_msgs.idl).
 inline constexpr size_t kMaxHealthDevices = 16;
 inline constexpr size_t kMaxHealthCounters = 64;
+// Bounds of SonarRing_ and BumperState_.
+inline constexpr size_t kMaxSonars = 32;
+inline constexpr int kMaxBumperSegments = 32;
 
 // Frame ids used in headers.
 inline constexpr const char* kLaserFrame = "laser";
@@ -76,5 +84,19 @@ RobotHealth FromIdl(const wire::RobotHealth& health);
 
 wire::ClockProbe ToIdl(const ClockProbe& probe);
 ClockProbe FromIdl(const wire::ClockProbe& probe);
+
+// The belt's cycle with every sensor's mount; the ring's stamp is the newest sensor stamp.
+// Keeps the first kMaxSonars sensors; frame ids longer than 32 bytes are cut.
+wire::SonarRing ToIdl(const SonarRanges& ranges);
+SonarRanges FromIdl(const wire::SonarRing& ring);
+
+// One sensor as ROS 2 sensor_msgs/Range (ULTRASOUND, frame_id = the sensor's frame, variance 0
+// = unknown). The mount is not part of the ROS layout: FromIdl leaves it at the origin.
+wire::Range ToIdl(const SonarRange& range);
+SonarRange FromIdl(const wire::Range& range);
+
+// FromIdl clamps segment_count to kMaxBumperSegments.
+wire::BumperState ToIdl(const BumperState& state);
+BumperState FromIdl(const wire::BumperState& state);
 
 }  // namespace mostar::dds

@@ -256,6 +256,7 @@ TEST(ConversionsTest, CommandTypesHaveASmallMaximumSize) {
   EXPECT_LE(mostar_msgs::msg::dds_::ControlRequest_PubSubType().m_typeSize, 200u);
   EXPECT_LE(mostar_msgs::msg::dds_::ClockProbe_PubSubType().m_typeSize, 200u);
   EXPECT_LE(mostar_msgs::msg::dds_::ControlLease_PubSubType().m_typeSize, 200u);
+  EXPECT_LE(mostar_msgs::msg::dds_::BumperState_PubSubType().m_typeSize, 200u);
   // Health: 16 devices of 64 counters each.
   EXPECT_LE(mostar_msgs::msg::dds_::RobotHealth_PubSubType().m_typeSize, 16u * 64u * 96u);
 }
@@ -267,6 +268,92 @@ TEST(ConversionsTest, RosTypeNamesAreExact) {
             "sensor_msgs::msg::dds_::CompressedImage_");
   EXPECT_EQ(std::string(nav_msgs::msg::dds_::Odometry_PubSubType().getName()),
             "nav_msgs::msg::dds_::Odometry_");
+  EXPECT_EQ(std::string(sensor_msgs::msg::dds_::Range_PubSubType().getName()),
+            "sensor_msgs::msg::dds_::Range_");
+}
+
+SonarRange MakeSonar(int i, float range_m) {
+  SonarRange r;
+  r.mount.frame_id = "sonar_" + std::to_string(i);
+  r.mount.x_m = 0.25 * std::cos(i * M_PI / 4);
+  r.mount.y_m = 0.25 * std::sin(i * M_PI / 4);
+  r.mount.yaw_rad = i * M_PI / 4;
+  r.stamp = kStamp + std::chrono::milliseconds(65 * i);
+  r.range_m = range_m;
+  r.min_range_m = 0.03f;
+  r.max_range_m = 6.0f;
+  r.field_of_view_rad = 0.96f;
+  return r;
+}
+
+TEST(ConversionsTest, SonarRingRoundTripKeepsMountsAndSpecialRanges) {
+  SonarRanges ring;
+  ring.cycle = 42;
+  ring.ranges = {MakeSonar(0, 1.25f), MakeSonar(1, std::numeric_limits<float>::infinity()),
+                 MakeSonar(2, std::numeric_limits<float>::quiet_NaN())};
+  const wire::SonarRing w = ThroughCdr<mostar_msgs::msg::dds_::SonarRing_PubSubType>(ToIdl(ring));
+  EXPECT_EQ(FromIdl(w.stamp()), ring.ranges[2].stamp);  // the newest sensor stamp
+  const SonarRanges back = FromIdl(w);
+  EXPECT_EQ(back.cycle, 42u);
+  ASSERT_EQ(back.ranges.size(), 3u);
+  EXPECT_EQ(back.ranges[1].mount.frame_id, "sonar_1");
+  EXPECT_NEAR(back.ranges[1].mount.x_m, ring.ranges[1].mount.x_m, 1e-6);
+  EXPECT_NEAR(back.ranges[1].mount.y_m, ring.ranges[1].mount.y_m, 1e-6);
+  EXPECT_NEAR(back.ranges[1].mount.yaw_rad, M_PI / 4, 1e-6);
+  EXPECT_EQ(back.ranges[1].stamp, ring.ranges[1].stamp);
+  EXPECT_FLOAT_EQ(back.ranges[0].range_m, 1.25f);
+  EXPECT_TRUE(std::isinf(back.ranges[1].range_m));
+  EXPECT_TRUE(std::isnan(back.ranges[2].range_m));
+  EXPECT_FLOAT_EQ(back.ranges[0].min_range_m, 0.03f);
+  EXPECT_FLOAT_EQ(back.ranges[0].max_range_m, 6.0f);
+  EXPECT_FLOAT_EQ(back.ranges[0].field_of_view_rad, 0.96f);
+}
+
+TEST(ConversionsTest, SonarRingKeepsAtMostItsBound) {
+  SonarRanges ring;
+  for (int i = 0; i < 40; ++i) ring.ranges.push_back(MakeSonar(i, 1.0f));
+  const SonarRanges back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::SonarRing_PubSubType>(ToIdl(ring)));
+  ASSERT_EQ(back.ranges.size(), kMaxSonars);
+  EXPECT_EQ(back.ranges.back().mount.frame_id, "sonar_31");
+}
+
+TEST(ConversionsTest, SonarAsRosRangeIsUltrasoundInItsOwnFrame) {
+  const SonarRange sonar = MakeSonar(5, 2.5f);
+  const wire::Range w = ThroughCdr<sensor_msgs::msg::dds_::Range_PubSubType>(ToIdl(sonar));
+  EXPECT_EQ(w.radiation_type(), 0);
+  EXPECT_EQ(w.header().frame_id(), "sonar_5");
+  EXPECT_EQ(w.variance(), 0.0f);
+  const SonarRange back = FromIdl(w);
+  EXPECT_EQ(back.mount.frame_id, "sonar_5");
+  EXPECT_EQ(back.stamp, sonar.stamp);
+  EXPECT_FLOAT_EQ(back.range_m, 2.5f);
+  EXPECT_FLOAT_EQ(back.min_range_m, 0.03f);
+  EXPECT_FLOAT_EQ(back.max_range_m, 6.0f);
+  EXPECT_FLOAT_EQ(back.field_of_view_rad, 0.96f);
+}
+
+TEST(ConversionsTest, BumperStateRoundTripAndClampedSegmentCount) {
+  BumperState state;
+  state.stamp = kStamp;
+  state.segment_count = 16;
+  state.pressed = 0x8001u;
+  state.latched = 0x0001u;
+  state.readable = false;
+  BumperState back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::BumperState_PubSubType>(ToIdl(state)));
+  EXPECT_EQ(back.stamp, kStamp);
+  EXPECT_EQ(back.segment_count, 16);
+  EXPECT_EQ(back.pressed, 0x8001u);
+  EXPECT_EQ(back.latched, 0x0001u);
+  EXPECT_FALSE(back.readable);
+
+  wire::BumperState too_many = ToIdl(state);
+  too_many.segment_count(200);
+  back = FromIdl(too_many);
+  EXPECT_EQ(back.segment_count, kMaxBumperSegments);
+  state.segment_count = 99;
+  EXPECT_EQ(ToIdl(state).segment_count(), kMaxBumperSegments);
 }
 
 }  // namespace

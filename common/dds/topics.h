@@ -11,6 +11,8 @@ inline constexpr const char* kCameraInfoLeft = "rt/mostar/camera/left/camera_inf
 inline constexpr const char* kCameraInfoRight = "rt/mostar/camera/right/camera_info";
 inline constexpr const char* kScan = "rt/mostar/scan";
 inline constexpr const char* kOdometry = "rt/mostar/odom";
+// One sensor_msgs/Range sample per sonar per belt cycle; frame_id names the sensor.
+inline constexpr const char* kSonarRange = "rt/mostar/sonar/range";
 
 // mostar's own topics.
 inline constexpr const char* kCommand = "rt/mostar/cmd_vel";
@@ -20,5 +22,7 @@ inline constexpr const char* kControlLease = "rt/mostar/control/lease";
 inline constexpr const char* kHealth = "rt/mostar/health";
 inline constexpr const char* kClockPing = "rt/mostar/clock/ping";
 inline constexpr const char* kClockPong = "rt/mostar/clock/pong";
+inline constexpr const char* kSonar = "rt/mostar/sonar";  // SonarRing_: the belt with mounts
+inline constexpr const char* kBumpers = "rt/mostar/bumpers";
 
 }  // namespace mostar::dds::topics
