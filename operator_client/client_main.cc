@@ -188,6 +188,8 @@ int Run(int argc, char** argv) {
     if (rec) rec->Write(o);
     robot.SetOdometry(o);
   };
+  callbacks.on_sonar = [&](const SonarRanges& sonar) { robot.SetSonar(sonar); };
+  callbacks.on_bumpers = [&](const BumperState& bumpers) { robot.SetBumpers(bumpers); };
   callbacks.on_camera_info = [&](Eye eye, const CameraIntrinsicsInfo& info) {
     robot.SetIntrinsics(eye, info);
     video.SetExpectedSize(eye, info.width_px, info.height_px);  // larger JPEGs are refused

@@ -26,6 +26,7 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
   options->ar.circle_spacing_m = static_cast<float>(ar.circle_spacing_m());
   options->ar.labels_enabled = ar.labels();
   options->ar.label_count = ar.label_count();
+  options->sonar.enabled = ar.sonar_sectors();
   if (!options->ar.IsValid(error)) {
     *error = "ar: " + *error;
     return false;

@@ -66,6 +66,14 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
       p, topics::kClockPong, Stream::kControl, [self](const dds::wire::ClockProbe& probe) {
         if (self->callbacks_.on_pong) self->callbacks_.on_pong(dds::FromIdl(probe));
       });
+  node->sonar_ = std::make_unique<decltype(node->sonar_)::element_type>(
+      p, topics::kSonar, Stream::kSensor, [self](const dds::wire::SonarRing& ring) {
+        if (self->callbacks_.on_sonar) self->callbacks_.on_sonar(dds::FromIdl(ring));
+      });
+  node->bumpers_ = std::make_unique<decltype(node->bumpers_)::element_type>(
+      p, topics::kBumpers, Stream::kState, [self](const dds::wire::BumperState& state) {
+        if (self->callbacks_.on_bumpers) self->callbacks_.on_bumpers(dds::FromIdl(state));
+      });
   if (options.pilot) {
     node->command_ = std::make_unique<decltype(node->command_)::element_type>(p, topics::kCommand,
                                                                               Stream::kCommand);
@@ -81,7 +89,8 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
       !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
-      !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->pong_, error) || !Check(node->sonar_, error) || !Check(node->bumpers_, error) ||
+      !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }

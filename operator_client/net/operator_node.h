@@ -1,5 +1,6 @@
-// The operator's DDS face: receives the robot's frames, scans, odometry, health and lease; sends
-// velocity commands, emergency stops, control requests and clock pings.
+// The operator's DDS face: receives the robot's frames, scans, odometry, sonar ring, bumper
+// state, health and lease; sends velocity commands, emergency stops, control requests and clock
+// pings.
 //
 // Knows DDS and the wire types; knows nothing of OpenGL. Callbacks run on DDS threads and must
 // hand data over quickly. Command ownership is shared: the robot hears every pilot and drives
@@ -11,10 +12,12 @@
 #include <string>
 
 #include "common/dds/endpoint.h"
+#include "common/types/bumper.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "ros2_msgsPubSubTypes.h"
@@ -31,6 +34,8 @@ class OperatorNode {
     std::function<void(const ControlLease&)> on_lease;
     std::function<void(const ClockProbe&)> on_pong;
     std::function<void(Eye, const CameraIntrinsicsInfo&)> on_camera_info;
+    std::function<void(const SonarRanges&)> on_sonar;
+    std::function<void(const BumperState&)> on_bumpers;
   };
   struct Options {
     std::string client_id = "operator";
@@ -61,6 +66,8 @@ class OperatorNode {
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;

@@ -28,6 +28,18 @@ void RobotState::SetOdometry(const Odometry& odometry) {
   snapshot_.last_odometry_received = clock_->SteadyNow();
 }
 
+void RobotState::SetSonar(const SonarRanges& sonar) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  snapshot_.sonar = sonar;
+  snapshot_.last_sonar_received = clock_->SteadyNow();
+}
+
+void RobotState::SetBumpers(const BumperState& bumpers) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  snapshot_.bumpers = bumpers;
+  snapshot_.last_bumpers_received = clock_->SteadyNow();
+}
+
 void RobotState::SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info) {
   std::lock_guard<std::mutex> lock(mutex_);
   (eye == Eye::kLeft ? snapshot_.left_intrinsics : snapshot_.right_intrinsics) = info;

@@ -1,6 +1,7 @@
 // What the operator knows about the robot besides video: recent scans (to match each image with
-// the scan nearest in time), the latest health, lease and odometry, and the clock offset to the
-// robot. Written from DDS threads, read by the render loop. Thread-safe.
+// the scan nearest in time), the latest health, lease, odometry, sonar cycle and bumper state,
+// and the clock offset to the robot. Written from DDS threads, read by the render loop.
+// Thread-safe.
 #pragma once
 
 #include <deque>
@@ -9,10 +10,12 @@
 
 #include "common/time/rate_meter.h"
 #include "common/timesync/clock_offset_estimator.h"
+#include "common/types/bumper.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
 
 namespace mostar::client {
@@ -22,6 +25,8 @@ struct RobotSnapshot {
   std::optional<ControlLease> lease;
   std::optional<Odometry> odometry;
   std::optional<LaserScan> latest_scan;
+  std::optional<SonarRanges> sonar;                     // the latest belt cycle
+  std::optional<BumperState> bumpers;                   // the latest bumper state
   std::optional<CameraIntrinsicsInfo> left_intrinsics;  // published by the robot
   std::optional<CameraIntrinsicsInfo> right_intrinsics;
   timesync::ClockOffsetEstimate clock;  // robot clock minus this machine's clock
@@ -30,6 +35,8 @@ struct RobotSnapshot {
   SteadyTime last_scan_received;
   SteadyTime last_health_received;
   SteadyTime last_odometry_received;
+  SteadyTime last_sonar_received;
+  SteadyTime last_bumpers_received;
   // Clock pings lost on the control path: the share of the last kPingLossWindow ping sequence
   // numbers (up to the newest pong) whose pong never came; -1 until two pongs arrived.
   double ping_loss = -1;
@@ -43,6 +50,8 @@ class RobotState {
   void SetHealth(const RobotHealth& health);
   void SetLease(const ControlLease& lease);
   void SetOdometry(const Odometry& odometry);
+  void SetSonar(const SonarRanges& sonar);
+  void SetBumpers(const BumperState& bumpers);
   void SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info);
   // A pong for one of our pings; t3 is taken now.
   void AddClockSample(const ClockProbe& probe);

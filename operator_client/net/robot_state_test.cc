@@ -44,6 +44,32 @@ TEST(RobotStateTest, EstopStateOfTheLatestHealthWithItsArrival) {
   EXPECT_EQ(received, clock.SteadyNow());
 }
 
+TEST(RobotStateTest, LatestSonarAndBumpersWithTheirArrival) {
+  FakeClock clock;
+  RobotState state(&clock);
+  EXPECT_FALSE(state.Snapshot().sonar.has_value());
+  EXPECT_FALSE(state.Snapshot().bumpers.has_value());
+  SonarRanges sonar;
+  sonar.cycle = 7;
+  sonar.ranges.resize(8);
+  clock.Advance(std::chrono::seconds(1));
+  state.SetSonar(sonar);
+  const SteadyTime sonar_at = clock.SteadyNow();
+  BumperState bumpers;
+  bumpers.segment_count = 16;
+  bumpers.latched = 1u << 3;
+  clock.Advance(std::chrono::seconds(1));
+  state.SetBumpers(bumpers);
+  const RobotSnapshot snapshot = state.Snapshot();
+  ASSERT_TRUE(snapshot.sonar.has_value());
+  EXPECT_EQ(snapshot.sonar->cycle, 7u);
+  EXPECT_EQ(snapshot.sonar->ranges.size(), 8u);
+  EXPECT_EQ(snapshot.last_sonar_received, sonar_at);
+  ASSERT_TRUE(snapshot.bumpers.has_value());
+  EXPECT_EQ(snapshot.bumpers->latched, 1u << 3);
+  EXPECT_EQ(snapshot.last_bumpers_received, clock.SteadyNow());
+}
+
 TEST(RobotStateTest, EmptyHistoryGivesNothing) {
   FakeClock clock;
   RobotState state(&clock);

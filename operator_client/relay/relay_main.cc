@@ -213,6 +213,12 @@ int Main(int argc, char** argv) {
       *robot_side, *observer_side, topics::kHealth, Stream::kState));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
       *robot_side, *observer_side, topics::kControlLease, Stream::kState));
+  forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::SonarRing_PubSubType>>(
+      *robot_side, *observer_side, topics::kSonar, Stream::kSensor));
+  forwarders.push_back(std::make_unique<Forwarder<sensor_msgs::msg::dds_::Range_PubSubType>>(
+      *robot_side, *observer_side, topics::kSonarRange, Stream::kSensor));
+  forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::BumperState_PubSubType>>(
+      *robot_side, *observer_side, topics::kBumpers, Stream::kState));
   if (!robot_side->own_client_id().empty()) relay_id = robot_side->own_client_id();
   forwarders.push_back(std::make_unique<EstopForwarder>(*robot_side, *observer_side, relay_id));
   for (const auto& f : forwarders) {

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/math/camera_model.h"
+#include "operator_client/fusion/sonar_features.h"
 #include "operator_client/render/eye_renderer.h"
 #include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
@@ -119,6 +120,55 @@ TEST_F(RenderTest, WallBaseLandsOnTheProjectedImageRow) {
     ASSERT_GE(lowest_red, 0) << "wall not drawn at " << distance_m << " m";
     EXPECT_NEAR(lowest_red, (*base)(1), 1.5) << "wall at " << distance_m << " m";
   }
+}
+
+// A sonar echo the laser does not see: a translucent sector on the floor up to the echo, outlined
+// in magenta, and nothing beyond it.
+TEST_F(RenderTest, SonarSectorLiesOnTheFloorUpToItsEcho) {
+  const math::LaserCameraCalibration calibration;
+  const math::CameraModel model(calibration, math::Eye::kLeft);
+  SonarRanges ring;
+  SonarRange sonar;
+  sonar.mount.x_m = 0.2;
+  sonar.range_m = 1.5f;
+  sonar.min_range_m = 0.03f;
+  sonar.max_range_m = 6.f;
+  sonar.field_of_view_rad = 0.6f;
+  ring.ranges.push_back(sonar);
+  fusion::ArFeatureOptions colors;
+  colors.laser_height_m = static_cast<float>(calibration.laser_height_m);
+  fusion::SonarFeatures features;
+  fusion::BuildSonarFeatures(ring, {}, colors, fusion::SonarFeatureOptions{}, &features);
+  ASSERT_EQ(features.unseen, 1u);
+  OverlayGeometry overlay;
+  overlay.triangles = features.fans;
+  overlay.lines = features.outlines;
+  eyes_[0].Render(cv::Mat(480, 640, CV_8UC3, cv::Scalar(60, 60, 60)), View(calibration), overlay,
+                  {});
+  const cv::Mat image = ReadEye(eyes_[0]);
+  const float floor_z = -colors.laser_height_m;
+  auto pixel_at = [&](double x, double y) {
+    const auto p = model.ProjectUndistorted(Eigen::Vector3d(x, y, floor_z));
+    EXPECT_TRUE(p.has_value());
+    return cv::Point(static_cast<int>(std::lround((*p)(0))),
+                     static_cast<int>(std::lround((*p)(1))));
+  };
+  // Inside the sector: the grey floor tinted towards the echo's (orange-yellow) colour.
+  const cv::Vec3b inside = image.at<cv::Vec3b>(pixel_at(1.55, 0.0));
+  EXPECT_GT(inside[2], 120) << "red of the sector";
+  EXPECT_GT(inside[1], 90) << "green of the sector";
+  EXPECT_LT(inside[0], 60) << "blue below the floor's";
+  // Beyond the echo: the plain floor.
+  const cv::Vec3b beyond = image.at<cv::Vec3b>(pixel_at(2.6, 0.0));
+  EXPECT_EQ(beyond, cv::Vec3b(60, 60, 60));
+  // The echo arc on the sonar's axis: a magenta line within a pixel or two.
+  const cv::Point arc = pixel_at(0.2 + 1.5, 0.0);
+  int magenta = 0;
+  for (int dv = -2; dv <= 2; ++dv) {
+    const cv::Vec3b p = image.at<cv::Vec3b>(arc.y + dv, arc.x);
+    if (p[2] > 200 && p[0] > 200 && p[1] < 100) ++magenta;
+  }
+  EXPECT_GE(magenta, 1) << "no magenta echo arc near " << arc;
 }
 
 TEST_F(RenderTest, ImageIsShownUprightAndUnshifted) {

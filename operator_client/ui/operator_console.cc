@@ -7,6 +7,7 @@
 #include "common/math/calibration_io.h"
 #include "common/stats/percentile.h"
 #include "operator_client/render/screenshot.h"
+#include "operator_client/ui/bumper_display.h"
 #include "operator_client/ui/overlay_assembly.h"
 #include "operator_client/ui/panels/calibration_panel.h"
 #include "operator_client/ui/panels/help_panel.h"
@@ -79,6 +80,7 @@ void OperatorConsole::HandleInput() {
   if (in.toggle_calibration) options_.show_calibration_panel = !options_.show_calibration_panel;
   if (in.toggle_hud) options_.show_hud = !options_.show_hud;
   if (in.toggle_map) options_.show_map = !options_.show_map;
+  if (in.toggle_sonar) options_.sonar.enabled = !options_.sonar.enabled;
   if (in.toggle_vision) options_.vision_enabled = !options_.vision_enabled;
   if (in.toggle_edge_view) show_edge_view_ = !show_edge_view_;
   if (in.mode) options_.mode = *in.mode;
@@ -174,12 +176,22 @@ const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* err
       error);
 }
 
-void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
-                                   render::OverlayGeometry* overlay, fusion::ArFeatures* features) {
+void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
+                                   const std::optional<LaserScan>& scan,
+                                   render::OverlayGeometry* overlay, fusion::ArFeatures* features,
+                                   fusion::SonarFeatures* sonar) {
   if (scan) {
     std::string error;
     OverlayBuilder(&error).Build(*scan, features);
     if (!error.empty()) status_line_ = "AR options: " + error;
+  }
+  // The belt cycles at about 5 Hz: a cycle older than a second no longer shows where things are.
+  const bool sonar_fresh =
+      robot.sonar && clock_->SteadyNow() - robot.last_sonar_received < std::chrono::seconds(1);
+  if (sonar_fresh) {
+    fusion::ArFeatureOptions colors = options_.ar;
+    colors.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
+    fusion::BuildSonarFeatures(*robot.sonar, features->points, colors, options_.sonar, sonar);
   }
   // Possible obstacles the laser missed (NEPs much nearer than the laser point): magenta dots.
   static const std::vector<vision::PossibleObstacle> kNone;
@@ -190,7 +202,7 @@ void OperatorConsole::BuildOverlay(const std::optional<LaserScan>& scan,
     path.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
     fusion::BuildPredictedPath(drive_.linear_mps, drive_.angular_radps, path, &predicted);
   }
-  AssembleOverlay(scan ? features : nullptr,
+  AssembleOverlay(sonar_fresh ? sonar : nullptr, scan ? features : nullptr,
                   result ? result->classification.possible_obstacles : kNone, predicted, overlay);
 }
 
@@ -223,7 +235,8 @@ bool OperatorConsole::Frame() {
   }
   render::OverlayGeometry overlay;
   fusion::ArFeatures features;
-  BuildOverlay(scan, &overlay, &features);
+  fusion::SonarFeatures sonar;
+  BuildOverlay(robot, scan, &overlay, &features, &sonar);
 
   for (int e = 0; e < 2; ++e) {
     static const cv::Mat kEmpty;
@@ -237,7 +250,7 @@ bool OperatorConsole::Frame() {
   compositor_.Compose(options_.mode, eyes_[0].texture(), eyes_[1].texture(), fb_w, fb_h,
                       window_->quad_buffer());
   imgui_->BeginFrame();
-  DrawPanels(robot, features, pair, fb_w, fb_h);
+  DrawPanels(robot, features, sonar, pair, fb_w, fb_h);
   imgui_->EndFrame();
   if (new_pair) {
     last_pair_ = pair->sequence;
@@ -276,6 +289,7 @@ std::optional<StereoOffsetHint> OperatorConsole::OffsetHint() const {
 
 void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
                                  const fusion::ArFeatures& features,
+                                 const fusion::SonarFeatures& sonar,
                                  const std::optional<client::DecodedStereoPair>& pair, int fb_w,
                                  int fb_h) {
   if (options_.ar.labels_enabled) {
@@ -296,9 +310,15 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.drive_scale = mapper_.scale();
     hud.status_line = status_line_;
     hud.pending_estop = commands_->pending_estop();
+    hud.sonar_echoes = sonar.echoes;
+    hud.sonar_unseen = sonar.unseen;
     DrawHudPanel(robot, video_->Stats(), hud, clock_->SteadyNow());
   }
-  if (options_.show_map) DrawMapPanel(features);
+  if (options_.show_map) {
+    DrawMapPanel(features, sonar,
+                 ViewBumpers(robot.bumpers, robot.last_bumpers_received, clock_->SteadyNow()),
+                 options_.path.half_width_m);
+  }
   if (options_.show_calibration_panel) {
     DrawCalibrationPanel(options_.calibration_path,
                          {&options_.show_calibration_panel, &options_.calibration, &options_.ar,

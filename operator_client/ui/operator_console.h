@@ -16,6 +16,7 @@
 
 #include "common/math/camera_model.h"
 #include "operator_client/fusion/predicted_path.h"
+#include "operator_client/fusion/sonar_features.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/render/eye_renderer.h"
 #include "operator_client/render/stereo_compositor.h"
@@ -50,6 +51,7 @@ struct ConsoleOptions {
   std::string calibration_path;  // where "save" writes; empty: calibration_profile.pbtxt
   math::LaserCameraCalibration calibration;
   fusion::ArFeatureOptions ar;
+  fusion::SonarFeatureOptions sonar;  // colours and floor from `ar`
   fusion::PredictedPathOptions path;
   DriveLimits drive;
   // Edge processing (thesis 8, 9.2): NEPs correct the overlay, mark obstacles the laser
@@ -115,11 +117,15 @@ class OperatorConsole {
   // The AR builder of the overlay's current options (the configured one, with `error`, when
   // they are invalid); rebuilt only when they change.
   const fusion::ArFeatureBuilder& OverlayBuilder(std::string* error);
-  void BuildOverlay(const std::optional<LaserScan>& scan, render::OverlayGeometry* overlay,
-                    fusion::ArFeatures* features);
+  // The frame's overlay: AR features of `scan`, the sonar sectors of the robot's latest belt
+  // cycle (when fresh), possible obstacles and the predicted path.
+  void BuildOverlay(const client::RobotSnapshot& robot, const std::optional<LaserScan>& scan,
+                    render::OverlayGeometry* overlay, fusion::ArFeatures* features,
+                    fusion::SonarFeatures* sonar);
   // NESC's vertical offset suggestion from the shown edge result, when current.
   std::optional<StereoOffsetHint> OffsetHint() const;
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,
+                  const fusion::SonarFeatures& sonar,
                   const std::optional<client::DecodedStereoPair>& pair, int fb_w, int fb_h);
 
   ConsoleOptions options_;

@@ -10,9 +10,13 @@ void Append(const fusion::VertexArray& from, fusion::VertexArray* to) {
 
 }  // namespace
 
-void AssembleOverlay(const fusion::ArFeatures* features,
+void AssembleOverlay(const fusion::SonarFeatures* sonar, const fusion::ArFeatures* features,
                      const std::vector<vision::PossibleObstacle>& obstacles,
                      const fusion::VertexArray& predicted_path, render::OverlayGeometry* overlay) {
+  if (sonar != nullptr) {
+    Append(sonar->fans, &overlay->triangles);
+    Append(sonar->outlines, &overlay->lines);
+  }
   if (features != nullptr) {
     Append(features->walls, &overlay->triangles);
     Append(features->rays, &overlay->lines);

@@ -24,7 +24,7 @@ TEST(AssembleOverlayTest, ThePredictedPathIsAddedToRaysCirclesAndLinesNotInTheir
   fusion::BuildPredictedPath(0.3, 0.2, fusion::PredictedPathOptions{}, &path);
   ASSERT_FALSE(path.empty());
   render::OverlayGeometry overlay;
-  AssembleOverlay(&features, {}, path, &overlay);
+  AssembleOverlay(nullptr, &features, {}, path, &overlay);
   EXPECT_EQ(overlay.triangles.vertex_count(), 6u);
   EXPECT_EQ(overlay.lines.vertex_count(), 4u + 8u + 2u + path.vertex_count());
   EXPECT_EQ(overlay.lines.positions[0], 2.f) << "rays first";
@@ -35,7 +35,7 @@ TEST(AssembleOverlayTest, PossibleObstaclesAreMagentaDotsOnTheFloor) {
   vision::PossibleObstacle obstacle;
   obstacle.floor_point_laser = Eigen::Vector3d(1.5, -0.25, -0.4);
   render::OverlayGeometry overlay;
-  AssembleOverlay(nullptr, {obstacle}, {}, &overlay);
+  AssembleOverlay(nullptr, nullptr, {obstacle}, {}, &overlay);
   ASSERT_EQ(overlay.points.vertex_count(), 1u);
   EXPECT_FLOAT_EQ(overlay.points.positions[0], 1.5f);
   EXPECT_FLOAT_EQ(overlay.points.positions[1], -0.25f);
@@ -43,6 +43,22 @@ TEST(AssembleOverlayTest, PossibleObstaclesAreMagentaDotsOnTheFloor) {
   EXPECT_EQ(overlay.points.colors, (std::vector<float>{1.f, 0.f, 1.f, 1.f}));
   EXPECT_TRUE(overlay.lines.empty());
   EXPECT_TRUE(overlay.triangles.empty());
+}
+
+TEST(AssembleOverlayTest, SonarFansLieUnderTheWallsAndTheirOutlinesAmongTheLines) {
+  fusion::SonarFeatures sonar;
+  sonar.fans = Vertices(3, 7);
+  sonar.outlines = Vertices(2, 8);
+  fusion::ArFeatures features;
+  features.walls = Vertices(6, 1);
+  features.rays = Vertices(4, 2);
+  render::OverlayGeometry overlay;
+  AssembleOverlay(&sonar, &features, {}, {}, &overlay);
+  ASSERT_EQ(overlay.triangles.vertex_count(), 9u);
+  EXPECT_EQ(overlay.triangles.positions[0], 7.f) << "sonar fans drawn first";
+  EXPECT_EQ(overlay.triangles.positions[9], 1.f) << "then the walls";
+  EXPECT_EQ(overlay.lines.vertex_count(), 6u);
+  EXPECT_EQ(overlay.lines.positions[0], 8.f);
 }
 
 }  // namespace

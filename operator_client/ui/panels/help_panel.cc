@@ -18,6 +18,7 @@ void DrawHelpPanel(bool* open) {
       "C               calibration and AR panel\n"
       "E / V           edge processing on/off / edge view (thresholds)\n"
       "H / M           HUD / laser map\n"
+      "N               sonar sectors on/off\n"
       "Esc             quit");
   ImGui::End();
 }

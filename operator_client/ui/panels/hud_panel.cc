@@ -2,6 +2,8 @@
 
 #include <imgui.h>
 
+#include "operator_client/ui/bumper_display.h"
+
 namespace mostar::ui {
 
 void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStats& video,
@@ -71,6 +73,16 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
       ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s %s: %s", d.name.c_str(),
                          DeviceStateName(d.state), d.message.c_str());
     }
+  }
+  const BumperView bumpers = ViewBumpers(robot.bumpers, robot.last_bumpers_received, now);
+  if (!bumpers.status.empty()) {
+    const float on = bumpers.flash_on ? 1.f : 0.55f;
+    ImGui::TextColored(ImVec4(1, 0.15f * on, 0.15f * on, on), "%s", bumpers.status.c_str());
+  }
+  if (status.sonar_unseen > 0) {
+    ImGui::TextColored(ImVec4(1, 0.3f, 1, 1),
+                       "sonar: %zu of %zu echoes where the laser sees nothing", status.sonar_unseen,
+                       status.sonar_echoes);
   }
   if (status.pending_estop) {
     ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "e-stop %s sent, not yet confirmed by the robot",

@@ -1,5 +1,6 @@
 // The heads-up display (top left): video and scan rates, display age, link health, the pilot
-// and watchdog, device problems, the drive command and the status line. ImGui; render thread.
+// and watchdog, device problems, bumper contacts (flashing), sonar echoes the laser misses, the
+// drive command and the status line. ImGui; render thread.
 #pragma once
 
 #include <optional>
@@ -29,6 +30,9 @@ struct HudStatus {
   std::optional<bool> pending_estop;
   // This client runs a network DDS profile without DDS Security (--insecure): a warning line.
   bool dds_security_off = false;
+  // Sonar sectors of the shown overlay: echoes, and those the laser does not see.
+  size_t sonar_echoes = 0;
+  size_t sonar_unseen = 0;
 };
 
 // `now`: steady time, for the ages of the last samples.

@@ -1,0 +1,59 @@
+// AR cues from the sonar belt: each sonar's cone as a translucent sector on the floor from its
+// mount to its first echo, in the walls' distance colours, and the sectors where the sonar hears
+// something the laser does not see (glass, black surfaces, objects out of the scan plane)
+// highlighted. Plain vertex data in the laser frame (x forward, y left, z up; metres). The base
+// frame (base_link) is the floor point under the laser: a mount (x, y) in base_link is (x, y) in
+// the laser frame, and the floor is z = -laser_height_m. No OpenGL, no DDS.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "common/types/sonar.h"
+#include "operator_client/fusion/ar_features.h"
+#include "operator_client/fusion/vertex_array.h"
+
+namespace mostar::fusion {
+
+struct SonarFeatureOptions {
+  bool enabled = true;
+  float sector_alpha = 0.25f;  // [0, 1], sectors the laser agrees with
+  float unseen_alpha = 0.55f;  // [0, 1], sectors the laser does not see
+  int arc_segments = 12;       // >= 1: segments of each sector's far arc
+  // An echo counts as seen by the laser when a valid laser point lies inside the sonar's cone
+  // no farther from the sonar than its echo plus this margin; > 0.
+  float laser_agreement_margin_m = 0.30f;
+  // Outline of an unseen sector: the echo arc and the cone's sides, as lines.
+  Rgba unseen_outline{1.f, 0.f, 1.f, 1.f};  // magenta, as the obstacles edges find
+
+  bool IsValid(std::string* error) const;
+};
+
+// What one sonar of the cycle shows.
+struct SonarSector {
+  size_t sensor = 0;             // index in SonarRanges::ranges
+  bool has_echo = false;         // a finite range in [min_range_m, max_range_m]
+  bool unseen_by_laser = false;  // has_echo and no laser point agrees
+  float range_m = 0;
+  Rgba color;  // distance colour, opaque
+};
+
+struct SonarFeatures {
+  std::vector<SonarSector> sectors;  // one per sensor, in the cycle's order
+  VertexArray fans;                  // GL_TRIANGLES on the floor: mount to echo arc
+  VertexArray outlines;              // GL_LINES on the floor: outlines of unseen sectors
+  size_t echoes = 0;                 // sensors with an echo
+  size_t unseen = 0;                 // of them, not seen by the laser
+};
+
+// Builds the sonar cues of one belt cycle. `laser_points` are the scan's labelled points
+// (ArFeatures::points, laser frame); empty when no scan is known, and then every echo is unseen.
+// `colors` gives the distance colour scale (min/max distance) and the floor height.
+// Clears `out` first (keeps capacity). Sensors with no echo (+Inf), a failed reading (NaN) or a
+// range outside [min_range_m, max_range_m] draw nothing. `options` must be valid (asserted).
+void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLabel>& laser_points,
+                        const ArFeatureOptions& colors, const SonarFeatureOptions& options,
+                        SonarFeatures* out);
+
+}  // namespace mostar::fusion
