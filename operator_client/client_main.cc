@@ -145,6 +145,8 @@ int Run(int argc, char** argv) {
   }
   const std::string& client_id = console_options.client_id;
   console_options.dds_security_off = participant->security_off();
+  console_options.keep_last_frame =
+      !screenshot.empty() || capture_stamp_ns >= 0 || capture_after >= 0;
 
   const Clock* clock = &SystemClock::Instance();
   std::unique_ptr<record::RecordingWriter> recorder;
@@ -190,6 +192,7 @@ int Run(int argc, char** argv) {
   };
   callbacks.on_sonar = [&](const SonarRanges& sonar) { robot.SetSonar(sonar); };
   callbacks.on_bumpers = [&](const BumperState& bumpers) { robot.SetBumpers(bumpers); };
+  callbacks.on_frame_timing = [&](const FrameTiming& timing) { robot.AddFrameTiming(timing); };
   callbacks.on_camera_info = [&](Eye eye, const CameraIntrinsicsInfo& info) {
     robot.SetIntrinsics(eye, info);
     video.SetExpectedSize(eye, info.width_px, info.height_px);  // larger JPEGs are refused
@@ -307,6 +310,10 @@ int Run(int argc, char** argv) {
             << " frame_time_ms_p95=" << console.FrameTimePercentileMs(95);
   if (console.captured()) {
     std::cout << " captured_stamp_ns=" << ToUnixNanos(*console.captured_stamp());
+  }
+  for (const ui::LatencyRow& row : console.latency().Rows()) {
+    std::cout << " latency_" << row.name << "_ms_p50=" << row.p50_ms << " latency_" << row.name
+              << "_ms_p95=" << row.p95_ms;
   }
   std::cout << " oversized_images=" << stats.oversized_images
             << " future_pairs=" << stats.future_dropped << " stamp_resyncs=" << stats.stamp_resyncs

@@ -173,6 +173,19 @@ TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
       << "no AR overlay in distance colours in the lower half of " << dir_ << "/client.png";
   const std::string report = testing::ReadFile(dir_ + "/client.log");
   EXPECT_NE(report.find("report: rendered_frames="), std::string::npos);
+  // The latency trace has every stage, robot side (camera timing topic) included: the stages
+  // add up to the total, and none is negative beyond the clock offset's error.
+  auto value = [&](const std::string& key) {
+    const size_t at = report.find(" " + key + "=");
+    EXPECT_NE(at, std::string::npos) << key << " missing in the report";
+    return at == std::string::npos ? -1e9 : std::stod(report.substr(at + key.size() + 2));
+  };
+  for (const char* stage :
+       {"encoded", "written", "received", "decoded", "picked", "vision", "drawn", "presented"}) {
+    EXPECT_GE(value(std::string("latency_") + stage + "_ms_p50"), -1.0) << stage;
+  }
+  EXPECT_GT(value("latency_total_ms_p50"), 0.0);
+  EXPECT_NEAR(value("latency_unexplained_ms_p50"), 0.0, 0.5) << "a stage without its stamp";
 }
 
 TEST_F(EndToEndTest, BadFlagsAndConfigGiveClearErrors) {

@@ -286,6 +286,18 @@ ClockProbe FromIdl(const wire::ClockProbe& probe) {
   return out;
 }
 
+wire::FrameTiming ToIdl(const FrameTiming& timing) {
+  wire::FrameTiming out;
+  out.capture(ToIdl(timing.capture));
+  out.encoded(ToIdl(timing.encoded));
+  out.written(ToIdl(timing.written));
+  return out;
+}
+
+FrameTiming FromIdl(const wire::FrameTiming& timing) {
+  return {FromIdl(timing.capture()), FromIdl(timing.encoded()), FromIdl(timing.written())};
+}
+
 namespace {
 
 mostar_msgs::msg::dds_::SonarReading_ ToReading(const SonarRange& r) {

@@ -33,6 +33,7 @@ using ControlLease = mostar_msgs::msg::dds_::ControlLease_;
 using RobotHealth = mostar_msgs::msg::dds_::RobotHealth_;
 using ClockProbe = mostar_msgs::msg::dds_::ClockProbe_;
 using Range = sensor_msgs::msg::dds_::Range_;
+using FrameTiming = mostar_msgs::msg::dds_::FrameTiming_;
 using SonarRing = mostar_msgs::msg::dds_::SonarRing_;
 using BumperState = mostar_msgs::msg::dds_::BumperState_;
 }  // namespace wire
@@ -84,6 +85,9 @@ RobotHealth FromIdl(const wire::RobotHealth& health);
 
 wire::ClockProbe ToIdl(const ClockProbe& probe);
 ClockProbe FromIdl(const wire::ClockProbe& probe);
+
+wire::FrameTiming ToIdl(const FrameTiming& timing);
+FrameTiming FromIdl(const wire::FrameTiming& timing);
 
 // The belt's cycle with every sensor's mount; the ring's stamp is the newest sensor stamp.
 // Keeps the first kMaxSonars sensors; frame ids longer than 32 bytes are cut.

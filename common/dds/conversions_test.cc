@@ -333,6 +333,16 @@ TEST(ConversionsTest, SonarAsRosRangeIsUltrasoundInItsOwnFrame) {
   EXPECT_FLOAT_EQ(back.field_of_view_rad, 0.96f);
 }
 
+TEST(ConversionsTest, FrameTimingRoundTrip) {
+  const FrameTiming timing{kStamp, kStamp + std::chrono::microseconds(1500),
+                           kStamp + std::chrono::microseconds(2100)};
+  const FrameTiming back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::FrameTiming_PubSubType>(ToIdl(timing)));
+  EXPECT_EQ(back.capture, timing.capture);
+  EXPECT_EQ(back.encoded, timing.encoded);
+  EXPECT_EQ(back.written, timing.written);
+}
+
 TEST(ConversionsTest, BumperStateRoundTripAndClampedSegmentCount) {
   BumperState state;
   state.stamp = kStamp;

@@ -22,6 +22,8 @@ inline constexpr const char* kControlLease = "rt/mostar/control/lease";
 inline constexpr const char* kHealth = "rt/mostar/health";
 inline constexpr const char* kClockPing = "rt/mostar/clock/ping";
 inline constexpr const char* kClockPong = "rt/mostar/clock/pong";
+// FrameTiming_: capture, encode and write instants of each pair sent (latency trace).
+inline constexpr const char* kCameraTiming = "rt/mostar/camera/timing";
 inline constexpr const char* kSonar = "rt/mostar/sonar";  // SonarRing_: the belt with mounts
 inline constexpr const char* kBumpers = "rt/mostar/bumpers";
 

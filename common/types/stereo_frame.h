@@ -30,8 +30,16 @@ struct CameraIntrinsicsInfo {
 
 struct CompressedStereoPair {
   uint64_t sequence = 0;  // pair counter of the producer
+  Time encoded;           // when both JPEGs were done (wall clock of the producer)
   CompressedImage left;
   CompressedImage right;
+};
+
+// The robot-side stages of one pair (robot clock), published on rt/mostar/camera/timing.
+struct FrameTiming {
+  Time capture;
+  Time encoded;
+  Time written;
 };
 
 }  // namespace mostar

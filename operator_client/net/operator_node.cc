@@ -74,6 +74,11 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
       p, topics::kBumpers, Stream::kState, [self](const dds::wire::BumperState& state) {
         if (self->callbacks_.on_bumpers) self->callbacks_.on_bumpers(dds::FromIdl(state));
       });
+  node->timing_ = std::make_unique<decltype(node->timing_)::element_type>(
+      p, topics::kCameraTiming, Stream::kSensor, [self](const dds::wire::FrameTiming& timing) {
+        if (self->callbacks_.on_frame_timing)
+          self->callbacks_.on_frame_timing(dds::FromIdl(timing));
+      });
   if (options.pilot) {
     node->command_ = std::make_unique<decltype(node->command_)::element_type>(p, topics::kCommand,
                                                                               Stream::kCommand);
@@ -90,8 +95,8 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
       !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
       !Check(node->pong_, error) || !Check(node->sonar_, error) || !Check(node->bumpers_, error) ||
-      !Check(node->command_, error) || !Check(node->estop_, error) ||
-      !Check(node->request_, error) || !Check(node->ping_, error)) {
+      !Check(node->timing_, error) || !Check(node->command_, error) ||
+      !Check(node->estop_, error) || !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
   return node;

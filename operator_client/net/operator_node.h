@@ -36,6 +36,7 @@ class OperatorNode {
     std::function<void(Eye, const CameraIntrinsicsInfo&)> on_camera_info;
     std::function<void(const SonarRanges&)> on_sonar;
     std::function<void(const BumperState&)> on_bumpers;
+    std::function<void(const FrameTiming&)> on_frame_timing;
   };
   struct Options {
     std::string client_id = "operator";
@@ -68,6 +69,7 @@ class OperatorNode {
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::FrameTiming_PubSubType>> timing_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;

@@ -40,6 +40,20 @@ void RobotState::SetBumpers(const BumperState& bumpers) {
   snapshot_.last_bumpers_received = clock_->SteadyNow();
 }
 
+void RobotState::AddFrameTiming(const FrameTiming& timing) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  timings_.push_back(timing);
+  while (timings_.size() > kTimingHistory) timings_.pop_front();
+}
+
+std::optional<FrameTiming> RobotState::TimingOf(Time capture) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = timings_.rbegin(); it != timings_.rend(); ++it) {
+    if (it->capture == capture) return *it;
+  }
+  return std::nullopt;
+}
+
 void RobotState::SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info) {
   std::lock_guard<std::mutex> lock(mutex_);
   (eye == Eye::kLeft ? snapshot_.left_intrinsics : snapshot_.right_intrinsics) = info;

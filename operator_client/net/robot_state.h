@@ -52,6 +52,11 @@ class RobotState {
   void SetOdometry(const Odometry& odometry);
   void SetSonar(const SonarRanges& sonar);
   void SetBumpers(const BumperState& bumpers);
+  // The robot-side stages of a pair; the last kTimingHistory are kept.
+  void AddFrameTiming(const FrameTiming& timing);
+  static constexpr size_t kTimingHistory = 64;
+  // The robot-side stages of the pair captured at `capture` (robot clock), when known.
+  std::optional<FrameTiming> TimingOf(Time capture) const;
   void SetIntrinsics(Eye eye, const CameraIntrinsicsInfo& info);
   // A pong for one of our pings; t3 is taken now.
   void AddClockSample(const ClockProbe& probe);
@@ -70,6 +75,7 @@ class RobotState {
   const Clock* clock_;
   mutable std::mutex mutex_;
   std::deque<LaserScan> scans_;
+  std::deque<FrameTiming> timings_;
   mutable RateMeter scan_rate_;
   timesync::ClockOffsetEstimator offset_;
   RobotSnapshot snapshot_;

@@ -70,6 +70,24 @@ TEST(RobotStateTest, LatestSonarAndBumpersWithTheirArrival) {
   EXPECT_EQ(snapshot.last_bumpers_received, clock.SteadyNow());
 }
 
+TEST(RobotStateTest, FrameTimingsAreFoundByCaptureStampAmongTheRecentOnes) {
+  FakeClock clock;
+  RobotState state(&clock);
+  const Time t0 = clock.Now();
+  auto at = [&](int i) { return t0 + std::chrono::milliseconds(33 * i); };
+  for (int i = 0; i < 100; ++i) {
+    state.AddFrameTiming(
+        {at(i), at(i) + std::chrono::milliseconds(2), at(i) + std::chrono::milliseconds(3)});
+  }
+  const std::optional<FrameTiming> recent = state.TimingOf(at(99));
+  ASSERT_TRUE(recent.has_value());
+  EXPECT_EQ(recent->encoded, at(99) + std::chrono::milliseconds(2));
+  EXPECT_EQ(recent->written, at(99) + std::chrono::milliseconds(3));
+  EXPECT_TRUE(state.TimingOf(at(100 - RobotState::kTimingHistory)).has_value());
+  EXPECT_FALSE(state.TimingOf(at(99 - RobotState::kTimingHistory)).has_value()) << "forgotten";
+  EXPECT_FALSE(state.TimingOf(at(50) + std::chrono::milliseconds(1)).has_value());
+}
+
 TEST(RobotStateTest, EmptyHistoryGivesNothing) {
   FakeClock clock;
   RobotState state(&clock);

@@ -213,6 +213,8 @@ int Main(int argc, char** argv) {
       *robot_side, *observer_side, topics::kHealth, Stream::kState));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
       *robot_side, *observer_side, topics::kControlLease, Stream::kState));
+  forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::FrameTiming_PubSubType>>(
+      *robot_side, *observer_side, topics::kCameraTiming, Stream::kSensor));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::SonarRing_PubSubType>>(
       *robot_side, *observer_side, topics::kSonar, Stream::kSensor));
   forwarders.push_back(std::make_unique<Forwarder<sensor_msgs::msg::dds_::Range_PubSubType>>(

@@ -21,6 +21,7 @@ ConsoleInput ConsoleKeys::Poll(GLFWwindow* w, bool typing) {
     in.toggle_hud = Pressed(w, GLFW_KEY_H);
     in.toggle_map = Pressed(w, GLFW_KEY_M);
     in.toggle_sonar = Pressed(w, GLFW_KEY_N);
+    in.toggle_latency = Pressed(w, GLFW_KEY_L);
     in.toggle_vision = Pressed(w, GLFW_KEY_E);
     in.toggle_edge_view = Pressed(w, GLFW_KEY_V);
     for (int i = 0; i < render::kDisplayModeCount; ++i) {

@@ -20,6 +20,7 @@ struct ConsoleInput {
   bool toggle_hud = false;                  // H
   bool toggle_map = false;                  // M
   bool toggle_sonar = false;                // N
+  bool toggle_latency = false;              // L
   bool toggle_vision = false;               // E
   bool toggle_edge_view = false;            // V
   std::optional<render::DisplayMode> mode;  // 1..9

@@ -6,6 +6,7 @@
 #include "common/log/log.h"
 #include "common/math/calibration_io.h"
 #include "common/stats/percentile.h"
+#include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
 #include "operator_client/ui/bumper_display.h"
 #include "operator_client/ui/overlay_assembly.h"
@@ -13,6 +14,7 @@
 #include "operator_client/ui/panels/help_panel.h"
 #include "operator_client/ui/panels/hud_panel.h"
 #include "operator_client/ui/panels/labels_panel.h"
+#include "operator_client/ui/panels/latency_panel.h"
 #include "operator_client/ui/panels/map_panel.h"
 
 namespace mostar::ui {
@@ -81,6 +83,7 @@ void OperatorConsole::HandleInput() {
   if (in.toggle_hud) options_.show_hud = !options_.show_hud;
   if (in.toggle_map) options_.show_map = !options_.show_map;
   if (in.toggle_sonar) options_.sonar.enabled = !options_.sonar.enabled;
+  if (in.toggle_latency) show_latency_ = !show_latency_;
   if (in.toggle_vision) options_.vision_enabled = !options_.vision_enabled;
   if (in.toggle_edge_view) show_edge_view_ = !show_edge_view_;
   if (in.mode) options_.mode = *in.mode;
@@ -145,6 +148,10 @@ void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
 }
 
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
+  if (latest && (picked_.empty() || picked_.back().first != latest->sequence)) {
+    picked_.emplace_back(latest->sequence, clock_->SteadyNow());
+    while (picked_.size() > 16) picked_.pop_front();
+  }
   if (!options_.vision_enabled) {
     picker_.ShowUnprocessed(latest);
     return;
@@ -252,10 +259,13 @@ bool OperatorConsole::Frame() {
   imgui_->BeginFrame();
   DrawPanels(robot, features, sonar, pair, fb_w, fb_h);
   imgui_->EndFrame();
+  const SteadyTime drawn = clock_->SteadyNow();
   if (new_pair) {
     last_pair_ = pair->sequence;
     ++rendered_pairs_;
-    if (options_.headless) last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
+    if (options_.headless && options_.keep_last_frame) {
+      last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
+    }
     // Capture-to-display age, on the robot's clock when the offset is known.
     Time now = clock_->Now();
     if (robot.clock.known) now = robot.clock.ToResponderTime(now);
@@ -264,9 +274,44 @@ bool OperatorConsole::Frame() {
   }
   if (capture_render && capture_->CountRender()) last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
   window_->SwapBuffers();
-  frame_time_ms_ = ToSeconds(clock_->SteadyNow() - start) * 1e3;
+  glFinish();  // presented: the frame is on screen, not queued in the driver
+  const SteadyTime presented = clock_->SteadyNow();
+  if (new_pair) TracePair(*pair, robot, start, drawn, presented);
+  frame_time_ms_ = ToSeconds(presented - start) * 1e3;
   if (new_pair && frame_times_ms_.size() < 100000) frame_times_ms_.push_back(frame_time_ms_);
   return new_pair;
+}
+
+Time OperatorConsole::ToRobotTime(SteadyTime t, const client::RobotSnapshot& robot) const {
+  const Time local = clock_->Now() - (clock_->SteadyNow() - t);
+  return robot.clock.known ? robot.clock.ToResponderTime(local) : local;
+}
+
+void OperatorConsole::TracePair(const client::DecodedStereoPair& pair,
+                                const client::RobotSnapshot& robot, SteadyTime frame_start,
+                                SteadyTime drawn, SteadyTime presented) {
+  PairTimeline timeline;
+  timeline.capture = pair.stamp;
+  if (const std::optional<FrameTiming> timing = robot_->TimingOf(pair.stamp)) {
+    timeline.Set(LatencyStage::kEncoded, timing->encoded);
+    timeline.Set(LatencyStage::kWritten, timing->written);
+  }
+  timeline.Set(LatencyStage::kReceived, ToRobotTime(pair.received, robot));
+  timeline.Set(LatencyStage::kDecoded, ToRobotTime(pair.decoded, robot));
+  std::optional<Time> picked;
+  for (const auto& [sequence, at] : picked_) {
+    if (sequence == pair.sequence) picked = ToRobotTime(at, robot);
+  }
+  if (picked) timeline.Set(LatencyStage::kPicked, *picked);
+  // With edge processing on, the pair is shown in the first frame that has its result.
+  if (options_.vision_enabled) {
+    timeline.Set(LatencyStage::kVision, ToRobotTime(frame_start, robot));
+  } else if (picked) {
+    timeline.Set(LatencyStage::kVision, *picked);
+  }
+  timeline.Set(LatencyStage::kDrawn, ToRobotTime(drawn, robot));
+  timeline.Set(LatencyStage::kPresented, ToRobotTime(presented, robot));
+  latency_.Add(timeline);
 }
 
 double OperatorConsole::DisplayAgePercentileMs(double percentile) const {
@@ -339,6 +384,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
       status_line_ = "edges: " + error;
     }
   }
+  if (show_latency_) DrawLatencyPanel(latency_, &show_latency_);
   if (show_help_) DrawHelpPanel(&show_help_);
 }
 

@@ -8,6 +8,7 @@
 // decoded pair from StereoReceiver and the latest robot state from RobotState.
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
@@ -27,6 +28,7 @@
 #include "operator_client/ui/frame_picker.h"
 #include "operator_client/ui/imgui_layer.h"
 #include "operator_client/ui/intrinsics_adoption.h"
+#include "operator_client/ui/latency_trace.h"
 #include "operator_client/ui/lease_client.h"
 #include "operator_client/ui/pair_capture.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
@@ -48,6 +50,9 @@ struct ConsoleOptions {
   bool show_calibration_panel = false;
   bool show_hud = true;
   bool show_map = true;
+  // Headless: keep a copy of each frame that shows a new pair (for --screenshot); a read-back
+  // of the framebuffer per pair, so off unless a screenshot is wanted.
+  bool keep_last_frame = true;
   std::string calibration_path;  // where "save" writes; empty: calibration_profile.pbtxt
   math::LaserCameraCalibration calibration;
   fusion::ArFeatureOptions ar;
@@ -85,6 +90,8 @@ class OperatorConsole {
   // showed a new pair, in ms; 0 when none.
   double DisplayAgePercentileMs(double percentile) const;
   double FrameTimePercentileMs(double percentile) const;
+  // Where the capture-to-screen time of the shown pairs went, stage by stage (robot clock).
+  const LatencyTrace& latency() const { return latency_; }
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
@@ -124,6 +131,11 @@ class OperatorConsole {
                     fusion::SonarFeatures* sonar);
   // NESC's vertical offset suggestion from the shown edge result, when current.
   std::optional<StereoOffsetHint> OffsetHint() const;
+  // The robot-clock instant of `t` on this machine's monotonic clock (offset-corrected when the
+  // offset to the robot is known).
+  Time ToRobotTime(SteadyTime t, const client::RobotSnapshot& robot) const;
+  void TracePair(const client::DecodedStereoPair& pair, const client::RobotSnapshot& robot,
+                 SteadyTime frame_start, SteadyTime drawn, SteadyTime presented);
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,
                   const fusion::SonarFeatures& sonar,
                   const std::optional<client::DecodedStereoPair>& pair, int fb_w, int fb_h);
@@ -167,6 +179,10 @@ class OperatorConsole {
   double frame_time_ms_ = 0;
   std::vector<double> display_ages_ms_;  // per shown pair
   std::vector<double> frame_times_ms_;   // per frame that showed a new pair
+  LatencyTrace latency_;
+  // When the render loop first took each recent pair from the receiver: (sequence, time).
+  std::deque<std::pair<uint64_t, SteadyTime>> picked_;
+  bool show_latency_ = false;
   double display_age_ms_ = 0;
 };
 

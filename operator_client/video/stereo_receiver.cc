@@ -139,6 +139,7 @@ void StereoReceiver::DecodeLoop() {
     decoded.right = Decode(pair.right);
     decoded.compressed_bytes = pair.left.data.size() + pair.right.data.size();
     const bool broken = decoded.left.empty() || decoded.right.empty();
+    decoded.decoded = clock_->SteadyNow();
     lock.lock();
     if (broken) {
       ++stats_.broken_images;

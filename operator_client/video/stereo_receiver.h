@@ -30,6 +30,7 @@ struct DecodedStereoPair {
   uint64_t sequence = 0;  // decoded pair counter of this receiver
   Time stamp;             // capture stamp shared by both eyes
   SteadyTime received;    // when the pair became complete here (monotonic)
+  SteadyTime decoded;     // when both eyes were decoded (monotonic)
   cv::Mat left;           // BGR8
   cv::Mat right;          // BGR8; may be empty when the robot sends one eye only
   size_t compressed_bytes = 0;

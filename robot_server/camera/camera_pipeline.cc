@@ -223,6 +223,7 @@ void CameraPipeline::CompressLoop() {
       MOSTAR_LOG_EVERY_SEC(WARNING, 5) << options_.name << ": jpeg compression failed: " << error;
       continue;
     }
+    out.encoded = clock_->Now();
     const Delivery delivery = deliver_(out);
     const SteadyTime now = clock_->SteadyNow();
     controller.OnPairEncoded(now, out.left.data.size() + out.right.data.size(),

@@ -69,6 +69,7 @@ class CameraPipelineTest : public ::testing::Test {
           cv::Mat left;
           if (!decoder_.Decode(pair.left.data, &left, &error)) ++bad_;
           last_sequence_ = pair.sequence;
+          if (pair.encoded < pair.left.stamp) ++encoded_before_capture_;
           ++delivered_;
           return skip_all_ ? Delivery::kSkipped : Delivery::kSent;
         });
@@ -81,6 +82,7 @@ class CameraPipelineTest : public ::testing::Test {
   JpegDecoder decoder_;  // used on the compression thread only
   std::atomic<int> delivered_{0};
   std::atomic<int> bad_{0};
+  std::atomic<int> encoded_before_capture_{0};  // pairs whose encode stamp precedes capture
   std::atomic<uint64_t> last_sequence_{0};
   std::atomic<bool> skip_all_{false};
 };
@@ -92,6 +94,7 @@ TEST_F(CameraPipelineTest, DeliversCompressedPairsAndReportsHealth) {
   camera_->QueuePairs(1);
   ASSERT_TRUE(WaitFor([&] { return delivered_ >= 2; }));
   EXPECT_EQ(bad_, 0);
+  EXPECT_EQ(encoded_before_capture_, 0);
   const DeviceHealth health = pipeline_->Health();
   EXPECT_EQ(health.name, "test_camera");
   EXPECT_NE(health.state, DeviceState::kError) << health.message;

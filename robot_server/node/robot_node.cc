@@ -106,6 +106,8 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       std::make_unique<decltype(node->scan_)::element_type>(p, topics::kScan, Stream::kSensor);
   node->odom_ =
       std::make_unique<decltype(node->odom_)::element_type>(p, topics::kOdometry, Stream::kSensor);
+  node->timing_ = std::make_unique<decltype(node->timing_)::element_type>(p, topics::kCameraTiming,
+                                                                          Stream::kSensor);
   node->health_ =
       std::make_unique<decltype(node->health_)::element_type>(p, topics::kHealth, Stream::kState);
   node->lease_ = std::make_unique<decltype(node->lease_)::element_type>(p, topics::kControlLease,
@@ -151,8 +153,8 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   }
   if (!Check(node->scan_, error) || !Check(node->left_info_, error) ||
       !Check(node->right_info_, error) || !Check(node->odom_, error) ||
-      !Check(node->health_, error) || !Check(node->lease_, error) || !Check(node->pong_, error) ||
-      !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->timing_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
+      !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
       !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
@@ -211,8 +213,12 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
   const bool left_ok = chosen->left->Write(dds::ToIdl(pair.left));
   const bool right_ok = chosen->right->Write(dds::ToIdl(pair.right));
   video_write_since_ns_ = 0;
-  if (left_ok && right_ok) ++pairs_sent_;
-  return left_ok && right_ok;
+  if (!left_ok || !right_ok) return false;
+  ++pairs_sent_;
+  // The robot's half of the operator's latency trace, through the outbox (never blocks here).
+  const FrameTiming timing{pair.left.stamp, pair.encoded, clock_->Now()};
+  Post([this, m = dds::ToIdl(timing)] { timing_->Write(m); });
+  return true;
 }
 
 void RobotNode::PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) {

@@ -69,7 +69,8 @@ class RobotNode final : public RobotLink {
   static std::unique_ptr<RobotNode> Create(dds::Participant* participant, Callbacks callbacks,
                                            const Clock* clock, std::string* error,
                                            VideoOptions video = {});
-  // Both eyes; false when the pair was not sent: skipped at the source because every lane still
+  // Both eyes, then (through the outbox) their FrameTiming on rt/mostar/camera/timing; false
+  // when the pair was not sent: skipped at the source because every lane still
   // has an unacknowledged pair (ack-clock with a window), or refused by DDS.
   //
   // Ack-clock with a window: each camera topic has `window_pairs` reliable keep-last-1 writers.
@@ -168,6 +169,7 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> right_info_;
   std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan_;
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::FrameTiming_PubSubType>> timing_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Operator-side latency on loopback: robot_server (simulated robot or test pattern) and a
-# headless operator_client under Xvfb/llvmpipe; prints a table of the delivered pair rate, the
-# capture-to-display age and the client's render time (p50/p95).
+# headless operator_client under Xvfb/llvmpipe. Prints two tables: the delivered pair rate,
+# capture-to-display age and render time (p50/p95); then the capture-to-screen latency trace,
+# stage by stage (p50 / p95 ms of each stage since the one before, the total capture to
+# presented, and what no stamp explains), one column per run.
 #
 #   tests/bench/client_latency_bench.sh [BUILD_DIR] [SECONDS]
 set -euo pipefail
@@ -9,6 +11,8 @@ cd "$(dirname "$0")/../.."
 BUILD_DIR=${1:-build}
 SECONDS_RUN=${2:-15}
 DOMAIN=$((150 + $$ % 50))
+STAGES=(encoded written received decoded picked vision drawn presented total unexplained)
+declare -a reports=() labels=()
 printf '| source | display | pairs/s | age p50 ms | age p95 ms | render p50 ms | render p95 ms |\n'
 printf '|---|---|---|---|---|---|---|\n'
 for source in test_pattern sim; do
@@ -27,5 +31,22 @@ for source in test_pattern sim; do
     printf '| %s | %s | %.1f | %.1f | %.1f | %.1f | %.1f |\n' "$source" "$display" \
       "$(get pair_rate_hz)" "$(get display_age_ms_p50)" "$(get display_age_ms_p95)" \
       "$(get frame_time_ms_p50)" "$(get frame_time_ms_p95)"
+    reports+=("$report")
+    labels+=("$source $display")
   done
+done
+echo
+header='| stage (ms, p50 / p95) |'
+rule='|---|'
+for label in "${labels[@]}"; do header+=" $label |"; rule+='---|'; done
+echo "$header"
+echo "$rule"
+for stage in "${STAGES[@]}"; do
+  line="| $stage |"
+  for report in "${reports[@]}"; do
+    p50=$(echo "$report" | tr ' ' '\n' | grep "^latency_${stage}_ms_p50=" | cut -d= -f2)
+    p95=$(echo "$report" | tr ' ' '\n' | grep "^latency_${stage}_ms_p95=" | cut -d= -f2)
+    line+=$(printf ' %.1f / %.1f |' "${p50:-0}" "${p95:-0}")
+  done
+  echo "$line"
 done

@@ -19,6 +19,7 @@ void DrawHelpPanel(bool* open) {
       "E / V           edge processing on/off / edge view (thresholds)\n"
       "H / M           HUD / laser map\n"
       "N               sonar sectors on/off\n"
+      "L               latency trace (capture to screen, per stage)\n"
       "Esc             quit");
   ImGui::End();
 }
