@@ -6,16 +6,23 @@
      mostar_web accepts: each such connection is closed and counted as a bad frame;
   3. a client with a tiny receive buffer stops reading: mostar_web disconnects it once a write
      stays blocked for --write-timeout-s, and counts it as stalled;
-  4. a client sends half an HTTP request and nothing more: dropped after --request-timeout-s.
+  4. a client sends half an HTTP request and nothing more: dropped after --request-timeout-s;
+  5. with --client-ca, a TLS handshake without a certificate from that CA fails (counted), one
+     with it goes through.
 The well-behaved observer must keep receiving frames through all of it and mostar_web must
 exit cleanly. Needs no browser.
 
 Usage: web_bad_input_test.py ROBOT_SERVER MOSTAR_WEB SOURCE_DIR
 """
 
+import json
 import os
+import shutil
 import socket
+import ssl
+import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -60,6 +67,43 @@ def closed_by_server(ws, timeout_s=5):
     except (ConnectionError, OSError):
         ws.finish_close()
         return True
+
+
+def client_certificates(robot_server, mostar_web, source, check):
+    """--client-ca: a TLS handshake without a certificate from that CA fails and is counted; with
+    one (and the token) the request goes through."""
+    work = tempfile.mkdtemp(prefix="mostar_web_ca_")
+    run = lambda *a: subprocess.run(["openssl", *a], cwd=work, check=True,  # noqa: E731
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ec = ["-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1", "-nodes"]
+    run("req", "-x509", *ec, "-keyout", "ca.key", "-out", "ca.pem", "-days", "1", "-subj", "/CN=observers")
+    run("req", *ec, "-keyout", "alice.key", "-out", "alice.csr", "-subj", "/CN=alice")
+    run("x509", "-req", "-in", "alice.csr", "-CA", "ca.pem", "-CAkey", "ca.key", "-CAcreateserial",
+        "-out", "alice.pem", "-days", "1")
+    programs = webtest.Programs(robot_server, mostar_web, source,
+                                web_args=["--client-ca", os.path.join(work, "ca.pem")])
+    failures = []
+    try:
+        alice = (os.path.join(work, "alice.pem"), os.path.join(work, "alice.key"))
+        path = "/stats?token=" + webtest.TOKEN
+        try:
+            without = webtest.https_get(programs.port, path, programs.cert)[0]
+        except (ssl.SSLError, OSError):
+            without = 0
+        with_cert, body = webtest.https_get(programs.port, path, programs.cert, client_cert=alice)
+        ok = without == 0 and with_cert == 200
+        check(ok, "--client-ca: no certificate, no TLS session (%d); alice's certificate and token: %d"
+              % (without, with_cert))
+        if not ok:
+            failures.append("client certificates")
+        tls_failures = json.loads(body)["tls_failures"]
+        check(tls_failures == 1, "the refused handshake is counted (%d)" % tls_failures)
+        if tls_failures != 1:
+            failures.append("tls_failures")
+    finally:
+        programs.finish(failures)
+        shutil.rmtree(work, ignore_errors=True)
+    return failures
 
 
 def main():
@@ -148,7 +192,10 @@ def main():
             reader.ws.close()
         programs.stop()
         check(programs.web.returncode == 0, "mostar_web exited cleanly (%s)" % programs.web.returncode)
-    return programs.finish(failures)
+    status = programs.finish(failures)
+    if client_certificates(robot_server, mostar_web, source, check):
+        status = 1
+    return status
 
 
 if __name__ == "__main__":

@@ -128,10 +128,13 @@ def tls_context(cert):
     return ctx
 
 
-def https_get(port, path, cert, timeout=5):
-    """(status, body) of a GET over TLS."""
+def https_get(port, path, cert, timeout=5, client_cert=None):
+    """(status, body) of a GET over TLS; client_cert: (certificate, key) files to present."""
+    ctx = tls_context(cert)
+    if client_cert:
+        ctx.load_cert_chain(*client_cert)
     with socket.create_connection(("127.0.0.1", port), timeout=timeout) as raw:
-        with tls_context(cert).wrap_socket(raw, server_hostname="localhost") as s:
+        with ctx.wrap_socket(raw, server_hostname="localhost") as s:
             s.sendall(("GET %s HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n" % path).encode())
             data = b""
             while True:
