@@ -152,6 +152,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     ws_.set_option(websocket::stream_base::decorator(
         [](websocket::response_type& r) { r.set(http::field::server, "mostar_web"); }));
     ws_.read_message_max(kMaxClientMessageBytes);
+    // A close frame from the browser (with or without a status code) is an orderly end.
+    ws_.control_callback([this](websocket::frame_type kind, beast::string_view) {
+      if (kind == websocket::frame_type::close) peer_closed_ = true;
+    });
     ws_.auto_fragment(false);
     ws_.async_accept(request,
                      [self = shared_from_this()](beast::error_code ec) { self->OnAccept(ec); });
@@ -199,8 +203,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     // browser's reply to our close frame arrives after our close_notify): the stream failed
     // the connection when it sent its close_notify without having received a close frame.
     const bool failed_by_stream =
+        !peer_closed_ &&
         (SSL_get_shutdown(ws_.next_layer().native_handle()) & SSL_SENT_SHUTDOWN) != 0 &&
-        ws_.reason().code == websocket::close_code::none && ec != websocket::error::closed;
+        ec != websocket::error::closed;
     if (ec == websocket::condition::protocol_violation || ec == websocket::error::message_too_big ||
         ec == websocket::error::buffer_overflow || failed_by_stream) {
       ++server_->counters_.bad_frames;
@@ -209,7 +214,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     } else if (ec == beast::error::timeout) {
       ++server_->counters_.idle_closed;
       MOSTAR_LOG_EVERY_SEC(WARNING, 1) << "web: browser '" << name_ << "' silent; disconnected";
-    } else if (ec != websocket::error::closed && ec != net::error::eof &&
+    } else if (!peer_closed_ && ec != websocket::error::closed && ec != net::error::eof &&
                ec != net::error::operation_aborted) {
       // Reset, truncated TLS, data after close: also a peer that sent a bad frame and dropped
       // the connection before the closing handshake (Beast then reports the transport error).
@@ -278,6 +283,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   ClientOutbox outbox_;
   OutMessage in_flight_;
   bool closed_ = false;
+  bool peer_closed_ = false;  // the browser sent a close frame
 };
 
 // One TLS connection until it becomes a WebSocket or closes: TLS handshake, then HTTP requests

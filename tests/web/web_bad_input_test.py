@@ -3,7 +3,8 @@
 (TLS WebSocket client) reads frames throughout while:
   1. a wrong token (on /ws and on /stats) and a missing one are refused with 401 and counted;
   2. a client sends an unmasked frame, a frame with a reserved opcode and a message larger than
-     mostar_web accepts: each such connection is closed and counted as a bad frame;
+     mostar_web accepts: each such connection is closed and counted as a bad frame (an orderly
+     close frame without a status code is not);
   3. a client with a tiny receive buffer stops reading: mostar_web disconnects it once a write
      stays blocked for --write-timeout-s, and counts it as stalled;
   4. a client sends half an HTTP request and nothing more: dropped after --request-timeout-s;
@@ -147,6 +148,11 @@ def main():
         bad = webtest.WebSocket(programs.port, programs.cert, webtest.TOKEN)
         bad.sock.sendall(bytes([0x82, 0x80 | 127]) + (70000).to_bytes(8, "big") + b"mask")  # header only
         check(closed_by_server(bad), "an oversized message closes that connection")
+
+        # An orderly close without a status code (what a page's ws.close() sends) is no bad frame.
+        polite = webtest.WebSocket(programs.port, programs.cert, webtest.TOKEN)
+        polite.send(0x8, b"")
+        check(closed_by_server(polite), "a close frame without a status code ends that connection")
 
         # 3. A client that never reads.
         frozen = webtest.WebSocket(programs.port, programs.cert, webtest.TOKEN, rcvbuf=4096)

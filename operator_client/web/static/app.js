@@ -284,14 +284,14 @@ function connect() {
 $('login').addEventListener('submit', (event) => {
   event.preventDefault();
   sessionStorage.setItem('mostar_token', $('token').value.trim());
-  if (socket) socket.close();
+  if (socket) socket.close(1000, 'new token');
   socket = null;
   connect();
 });
 $('view').addEventListener('change', () => {
   const old = socket;
   socket = null;
-  if (old) old.close();
+  if (old) old.close(1000, 'view changed');
   connect();
 });
 
