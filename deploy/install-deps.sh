@@ -18,6 +18,9 @@ PACKAGES=(
   libprotobuf-dev protobuf-compiler libcli11-dev
   # client UI
   libglfw3-dev libimgui-dev libgl-dev libgl1-mesa-dri
+  # mostar_web: HTTPS and WebSocket (Boost.Beast/Asio, header-only); its tests drive headless
+  # Chromium through chromedriver
+  libboost-dev chromium chromium-driver
   # tests, benchmarks, headless display
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
   # fuzzing (libFuzzer)

@@ -1,0 +1,309 @@
+// mostar_web: lets any number of browsers watch the robot's AR view (docs/web_observer.md).
+// Wiring only: DDS readers (never a writer: read-only by construction) feed the eye pairer and
+// the robot state; a compose thread turns the newest pair into one encoded frame for every
+// browser (FrameComposer) and the robot state into the HUD four times a second; WebServer
+// sends both to the browsers, each at the pace it can take.
+//
+// Threads: DDS receive threads (pairing under a mutex, the newest pair into a latest-value slot,
+// robot state); the compose thread; the web server's network thread; the main thread waits
+// for a signal or --duration and prints statistics.
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "common/config/config_loader.h"
+#include "common/config/config_paths.h"
+#include "common/dds/conversions.h"
+#include "common/dds/domain.h"
+#include "common/dds/endpoint.h"
+#include "common/dds/participant.h"
+#include "common/dds/topics.h"
+#include "common/log/log.h"
+#include "common/math/calibration_io.h"
+#include "common/process/stop_signals.h"
+#include "common/sync/latest_value_slot.h"
+#include "common/time/rate_meter.h"
+#include "mostar_msgsPubSubTypes.h"
+#include "operator_client/client_config.pb.h"
+#include "operator_client/client_options.h"
+#include "operator_client/net/robot_state.h"
+#include "operator_client/web/eye_pairer.h"
+#include "operator_client/web/frame_composer.h"
+#include "operator_client/web/hud_state.h"
+#include "operator_client/web/web_server.h"
+#include "ros2_msgsPubSubTypes.h"
+
+namespace mostar::web {
+namespace {
+
+namespace topics = dds::topics;
+using dds::Stream;
+
+// The robot's streams, read only.
+struct Readers {
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType>> left, right;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::CameraInfo_PubSubType>> left_info;
+  std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease;
+
+  bool ok(std::string* error) const {
+    auto check = [error](const auto& r) {
+      if (!r->ok()) *error = r->error();
+      return r->ok();
+    };
+    return check(left) && check(right) && check(left_info) && check(scan) && check(health) &&
+           check(lease);
+  }
+};
+
+int Main(int argc, char** argv) {
+  CLI::App app{"mostar_web: the robot's AR view in any browser (HTTPS + WebSocket), read-only."};
+  int domain = -1;
+  dds::ParticipantOptions dds_options;
+  dds_options.name = "web";
+  std::string config_path;
+  WebServerOptions web;
+  std::string tokens_path;
+  double write_timeout_s = 5;
+  double request_timeout_s = 10;
+  double hud_period_s = 0.25;
+  double duration_s = 0;
+  double stats_period_s = 10;
+  std::string log_level = "info";
+  app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
+      ->check(CLI::Range(0, 232));
+  app.add_option("--dds-profile", dds_options.profile,
+                 "'loopback' or a Fast DDS XML profiles file");
+  app.add_option("--profile-name", dds_options.xml_participant_profile,
+                 "participant profile in the XML file (default: operator: mostar_web sits where a "
+                 "console would)");
+  app.add_flag("--insecure", dds_options.insecure,
+               "allow a network DDS profile without DDS Security (docs/security.md)");
+  app.add_option("-c,--config", config_path,
+                 "client configuration: calibration profile and AR options (protobuf text)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--listen", web.listen_address, "address to serve on (default 127.0.0.1)");
+  app.add_option("--port", web.port, "HTTPS port (0: any free port, printed at start)")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--cert", web.cert_file, "PEM certificate (chain) of this server")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--key", web.key_file, "PEM private key of --cert")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--tokens", tokens_path, "observers' tokens, one 'NAME TOKEN' per line")
+      ->check(CLI::ExistingFile);
+  app.add_option("--client-ca", web.client_ca_file,
+                 "PEM CA: browsers must present a client certificate it signed")
+      ->check(CLI::ExistingFile);
+  app.add_option("--max-browsers", web.max_browsers, "WebSocket connections at most")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--write-timeout-s", write_timeout_s,
+                 "a browser that takes longer to accept one message is disconnected")
+      ->check(CLI::Range(0.1, 600.0));
+  app.add_option("--request-timeout-s", request_timeout_s,
+                 "bound on a TLS handshake, an HTTP request and a WebSocket handshake")
+      ->check(CLI::Range(0.1, 600.0));
+  app.add_option("--hud-period-s", hud_period_s, "HUD update period")
+      ->check(CLI::Range(0.05, 10.0));
+  app.add_option("--duration", duration_s, "stop after this many seconds (0 = until signal)")
+      ->check(CLI::Range(0.0, 1e7));
+  app.add_option("--stats-period-s", stats_period_s, "log statistics this often")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--log-level", log_level, "debug | info | warning | error")
+      ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
+  CLI11_PARSE(app, argc, argv);
+  LogLevel level = LogLevel::kINFO;
+  ParseLogLevel(log_level, &level);
+  SetLogLevel(level);
+  web.write_timeout = FromSeconds(write_timeout_s);
+  web.request_timeout = FromSeconds(request_timeout_s);
+
+  // The console's configuration: calibration (and its stereo alignment), AR options.
+  std::string error;
+  client::ClientConfig config;
+  if (!config_path.empty() && !LoadTextConfig(config_path, &config, &error)) {
+    std::cerr << "mostar_web: bad configuration: " << error << "\n";
+    return 2;
+  }
+  ui::ConsoleOptions console;
+  if (!client::ConsoleOptionsFromConfig(config, DirectoryOf(config_path), &console, &error)) {
+    std::cerr << "mostar_web: bad configuration: " << error << "\n";
+    return 2;
+  }
+  ComposerOptions composer_options;
+  composer_options.calibration = console.calibration;
+  composer_options.ar = console.ar;
+  composer_options.intrinsics_from_robot = console.intrinsics_from_robot;
+  if (!console.calibration_path.empty()) {
+    math::LaserCameraCalibration ignored;
+    math::StereoAlignmentProfile alignment;
+    std::string why;
+    if (math::LoadCalibrationProfile(console.calibration_path, &ignored, &alignment, &why)) {
+      render::FromProfile(alignment, &composer_options.alignment_model,
+                          &composer_options.left_alignment, &composer_options.right_alignment);
+    }
+  }
+  if (!composer_options.IsValid(&error)) {
+    std::cerr << "mostar_web: " << config_path << ": " << error << "\n";
+    return 2;
+  }
+  if (!tokens_path.empty()) {
+    web.tokens = TokenTable::Load(tokens_path, &error);
+    if (!web.tokens) {
+      std::cerr << "mostar_web: " << error << "\n";
+      return 2;
+    }
+  }
+  if (!web.IsValid(&error)) {
+    std::cerr << "mostar_web: " << error << "\n";
+    return 2;
+  }
+
+  dds_options.domain_id = domain >= 0 ? domain : dds::DomainIdFromEnvironment(0);
+  if (dds_options.xml_participant_profile.empty()) {
+    dds_options.xml_participant_profile = "operator";
+  }
+  auto participant = dds::Participant::Create(dds_options, &error);
+  if (!participant) {
+    std::cerr << "mostar_web: " << error << "\n";
+    return 2;
+  }
+
+  const Clock* clock = &SystemClock::Instance();
+  client::RobotState robot(clock);
+  LatestValueSlot<CompressedStereoPair> pairs;
+  std::mutex pairer_mutex;
+  EyePairer pairer;
+  auto on_image = [&](Eye eye, const dds::wire::CompressedImage& image) {
+    std::optional<CompressedStereoPair> pair;
+    {
+      std::lock_guard<std::mutex> lock(pairer_mutex);
+      pair = pairer.Push(eye, dds::FromIdl(image));
+    }
+    if (pair) pairs.Put(std::move(*pair));
+  };
+  Readers readers;
+  auto& p = *participant;
+  readers.left = std::make_unique<decltype(readers.left)::element_type>(
+      p, topics::kCameraLeft, Stream::kVideo,
+      [&](const dds::wire::CompressedImage& image) { on_image(Eye::kLeft, image); });
+  readers.right = std::make_unique<decltype(readers.right)::element_type>(
+      p, topics::kCameraRight, Stream::kVideo,
+      [&](const dds::wire::CompressedImage& image) { on_image(Eye::kRight, image); });
+  readers.left_info = std::make_unique<decltype(readers.left_info)::element_type>(
+      p, topics::kCameraInfoLeft, Stream::kState, [&](const dds::wire::CameraInfo& info) {
+        robot.SetIntrinsics(Eye::kLeft, dds::FromIdl(info));
+      });
+  readers.scan = std::make_unique<decltype(readers.scan)::element_type>(
+      p, topics::kScan, Stream::kSensor,
+      [&](const dds::wire::LaserScan& scan) { robot.AddScan(dds::FromIdl(scan)); });
+  readers.health = std::make_unique<decltype(readers.health)::element_type>(
+      p, topics::kHealth, Stream::kState,
+      [&](const dds::wire::RobotHealth& health) { robot.SetHealth(dds::FromIdl(health)); });
+  readers.lease = std::make_unique<decltype(readers.lease)::element_type>(
+      p, topics::kControlLease, Stream::kState,
+      [&](const dds::wire::ControlLease& lease) { robot.SetLease(dds::FromIdl(lease)); });
+  if (!readers.ok(&error)) {
+    std::cerr << "mostar_web: " << error << "\n";
+    return 2;
+  }
+
+  std::atomic<uint64_t> frames_composed{0};
+  auto dds_stats = [&]() {
+    EyePairerStats s;
+    {
+      std::lock_guard<std::mutex> lock(pairer_mutex);
+      s = pairer.stats();
+    }
+    const LatestValueSlot<CompressedStereoPair>::Counters slot = pairs.counters();
+    return "\"images\":" + std::to_string(s.images) + ",\"pairs\":" + std::to_string(s.pairs) +
+           ",\"unpaired\":" + std::to_string(s.unpaired) + ",\"late\":" + std::to_string(s.late) +
+           ",\"pairs_skipped\":" + std::to_string(slot.drops) +
+           ",\"frames_composed\":" + std::to_string(frames_composed.load()) + ",";
+  };
+  std::unique_ptr<WebServer> server = WebServer::Create(web, dds_stats, &error);
+  if (!server) {
+    std::cerr << "mostar_web: " << error << "\n";
+    return 2;
+  }
+  server->Start();
+  // Scripts read the port from this line (with --port 0).
+  std::cout << "mostar_web: serving https://" << web.listen_address << ":" << server->port()
+            << "/ on DDS domain " << dds_options.domain_id << " (" << dds_options.profile << ")"
+            << std::endl;
+
+  // The compose thread: the newest pair into one frame for every browser; the HUD.
+  std::atomic<bool> stop{false};
+  std::thread composer_thread([&] {
+    FrameComposer composer(composer_options);
+    RateMeter pair_rate;
+    std::optional<Time> newest_stamp;
+    std::optional<SteadyTime> newest_received;
+    uint32_t sequence = 0;
+    uint64_t hud_sequence = 0;
+    SteadyTime next_hud = clock->SteadyNow();
+    std::string intrinsics_message;
+    while (!stop.load()) {
+      std::optional<CompressedStereoPair> pair = pairs.Take(std::chrono::milliseconds(20));
+      const SteadyTime now = clock->SteadyNow();
+      if (pair) {
+        composer.SetRobotIntrinsics(robot.Snapshot().left_intrinsics, &intrinsics_message);
+        if (!intrinsics_message.empty()) {
+          MOSTAR_LOG_EVERY_SEC(WARNING, 30) << "web: " << intrinsics_message;
+        }
+        const std::optional<LaserScan> scan = robot.NearestScan(pair->left.stamp);
+        const ComposedFrame frame =
+            composer.Compose(*pair, scan, {}, ++sequence, server->WantsBothEyes());
+        server->BroadcastFrame(frame);
+        ++frames_composed;
+        pair_rate.Tick(now);
+        newest_stamp = pair->left.stamp;
+        newest_received = now;
+      }
+      if (now >= next_hud) {
+        next_hud = now + FromSeconds(hud_period_s);
+        HudInputs inputs;
+        inputs.newest_pair_stamp = newest_stamp;
+        inputs.newest_pair_received = newest_received;
+        inputs.video_fps = pair_rate.RateHz(now);
+        inputs.browsers = server->browsers();
+        inputs.dds_security_off = participant->security_off();
+        HudState hud = MakeHud(robot.Snapshot(), inputs, clock->Now(), now);
+        hud.sequence = ++hud_sequence;
+        server->BroadcastHud(std::make_shared<const std::string>(EncodeHud(hud)));
+      }
+    }
+  });
+
+  InstallStopSignals();
+  const SteadyTime start = clock->SteadyNow();
+  SteadyTime next_stats = start + FromSeconds(stats_period_s);
+  while (!StopRequested()) {
+    const SteadyTime now = clock->SteadyNow();
+    if (duration_s > 0 && now - start >= FromSeconds(duration_s)) break;
+    if (now >= next_stats) {
+      MOSTAR_LOG(INFO) << "web stats " << server->StatsJson();
+      next_stats += FromSeconds(stats_period_s);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  stop = true;
+  pairs.Close();
+  composer_thread.join();
+  readers = Readers();  // no more DDS callbacks
+  std::cout << "report: " << server->StatsJson() << std::endl;
+  server.reset();
+  return 0;
+}
+
+}  // namespace
+}  // namespace mostar::web
+
+int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::web::Main(argc, argv)); }

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Headless Chromium watches the simulated robot through mostar_web.
+
+robot_server runs the simulator (corridor scene); mostar_web serves the page over HTTPS;
+chromedriver drives headless Chromium to the page with an observer's token. Checks:
+  1. frames arrive and are shown, and the HUD is live: its update counter, the frames shown and
+     the link state read back from the page's DOM change between two readings;
+  2. the AR overlay is drawn over the image: at the centroids of the wall triangles of the shown
+     frame (vertices the server projected with the console's camera model), the screenshot's
+     pixels move towards the wall colour compared with a screenshot with the overlay switched
+     off (the robot stands still, so the image under it is the same);
+  3. mostar_web counted the frames it wrote and refused nothing.
+Skips (77) only when chromium or chromedriver is missing.
+
+Usage: web_browser_test.py ROBOT_SERVER MOSTAR_WEB SOURCE_DIR [--screenshot PATH]
+"""
+
+import os
+import shutil
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import webtest  # noqa: E402
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+
+
+def wait_for(what, predicate, timeout_s):
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.25)
+    raise AssertionError("timed out waiting for " + what)
+
+
+def main():
+    if len(sys.argv) < 4:
+        print(__doc__)
+        return 2
+    robot_server, mostar_web, source = sys.argv[1:4]
+    screenshot_copy = sys.argv[5] if len(sys.argv) > 5 and sys.argv[4] == "--screenshot" else None
+    for tool in (CHROMIUM, CHROMEDRIVER):
+        if not os.path.exists(tool):
+            print("SKIP: %s is missing (deploy/install-deps.sh installs chromium and chromium-driver)" % tool)
+            return webtest.SKIP
+
+    failures = []
+
+    def check(ok, what):
+        print(("ok: " if ok else "FAIL: ") + what)
+        if not ok:
+            failures.append(what)
+
+    programs = webtest.Programs(robot_server, mostar_web, source)
+    driver = None
+    try:
+        driver = webtest.WebDriver(programs.work, CHROMIUM, CHROMEDRIVER, window=(1120, 820))
+        driver.get(programs.url("/#token=" + webtest.TOKEN))
+        stats = lambda: driver.js("return window.mostar ? window.mostar.stats : null")  # noqa: E731
+        first = wait_for("10 frames shown and 2 HUD updates",
+                         lambda: (lambda s: s if s and s["framesShown"] >= 10 and s["hudReceived"] >= 2
+                                  else None)(stats()), 40)
+        check(first["badMessages"] == 0, "the page decoded every message (%d bad)" % first["badMessages"])
+        # The simulated LMS200 needs a few seconds (baud switch) before its first scan.
+        wait_for("scans: link 'ok' and walls in the shown frame",
+                 lambda: driver.js("return document.getElementById('hud-link').textContent === 'ok'"
+                                   " && window.mostar.wallCentroids(5).length > 0"), 40)
+        hud = lambda: driver.js(  # noqa: E731
+            "const t = (id) => document.getElementById(id).textContent;"
+            "return {seq: t('hud-seq'), link: t('hud-link'), pilot: t('hud-pilot'),"
+            " watchdog: t('hud-watchdog'), estop: t('hud-estop'), age: t('hud-frame-age'),"
+            " video: t('hud-video'), shown: window.mostar.stats.framesShown};")
+        h1 = hud()
+        time.sleep(1.5)
+        h2 = hud()
+        print("HUD:", h2)
+        check(int(h2["seq"]) > int(h1["seq"]), "the HUD updates (update %s -> %s)" % (h1["seq"], h2["seq"]))
+        check(h2["shown"] > h1["shown"], "frames keep coming (%d -> %d shown)" % (h1["shown"], h2["shown"]))
+        check(h2["link"] == "ok", "link state 'ok' (got %r)" % h2["link"])
+        check(h2["estop"] in ("released", "ENGAGED") and h2["watchdog"] not in ("", "?"),
+              "the robot's watchdog (%r) and e-stop (%r) are shown" % (h2["watchdog"], h2["estop"]))
+        check(h2["age"].endswith(" ms"), "the frame age is shown (%r)" % h2["age"])
+
+        centroids = driver.js("return window.mostar.wallCentroids(80)")
+        check(len(centroids) >= 10, "the shown frame has wall triangles in the image (%d sampled)" % len(centroids))
+        with_overlay = driver.screenshot_png()
+        driver.js("document.getElementById('overlay').click()")
+        shown = driver.js("return window.mostar.stats.framesShown")
+        wait_for("3 frames without overlay",
+                 lambda: driver.js("return window.mostar.stats.framesShown") >= shown + 3, 20)
+        without_overlay = driver.screenshot_png()
+        path = os.path.join(programs.work, "web_observer.png")
+        with open(path, "wb") as f:
+            f.write(with_overlay)
+        if screenshot_copy:
+            shutil.copyfile(path, screenshot_copy)
+            print("screenshot written to", screenshot_copy)
+
+        w, h, a = webtest.read_png(with_overlay)
+        _, _, b = webtest.read_png(without_overlay)
+        towards = 0
+        eligible = 0
+        for c in centroids:
+            x, y = int(c["x"]), int(c["y"])
+            if not (0 <= x < w and 0 <= y < h):
+                continue
+            wall = c["rgba"][:3]
+            pa, pb = a[y][x], b[y][x]
+            shift = [pa[i] - pb[i] for i in range(3)]
+            to_wall = [wall[i] - pb[i] for i in range(3)]
+            dot = sum(shift[i] * to_wall[i] for i in range(3))
+            norm = sum(v * v for v in to_wall) ** 0.5
+            if norm < 30:
+                continue  # the image there already has the wall's colour: nothing to tell
+            eligible += 1
+            # At least 15 % of the way to the wall colour (walls are drawn 20-50 % opaque).
+            if dot / norm > 0.15 * norm:
+                towards += 1
+        share = towards / max(1, eligible)
+        check(eligible >= 10 and share >= 0.7,
+              "%d of %d wall centroids show the wall colour over the image" % (towards, eligible))
+
+        s = programs.stats()
+        print("mostar_web stats:", s)
+        check(s["frames_written"] >= 10 and s["frames_composed"] >= 10, "mostar_web composed and wrote frames")
+        check(s["token_refused"] == 0 and s["bad_frames"] == 0 and s["tls_failures"] == 0,
+              "nothing refused in a clean session")
+    except Exception as e:  # noqa: BLE001 - report and fail, never hang
+        failures.append(repr(e))
+        print("FAIL:", repr(e))
+    finally:
+        if driver:
+            driver.quit()
+    return programs.finish(failures)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
