@@ -55,7 +55,8 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair,
   fusion::ArFeatures features;
   if (scan) builder.Build(*scan, &features);
   render::OverlayGeometry geometry;
-  ui::AssembleOverlay(scan ? &features : nullptr, obstacles, fusion::VertexArray(), &geometry);
+  ui::AssembleOverlay(nullptr, scan ? &features : nullptr, obstacles, fusion::VertexArray(),
+                      &geometry);
   const math::CameraModel& model = geometry_.eye(0).image;
   const ImageOverlay overlay = ProjectOverlay(geometry, features.labels, model);
   const std::vector<MapPoint> map = MapPoints(features);
