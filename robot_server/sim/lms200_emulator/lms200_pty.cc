@@ -5,32 +5,16 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
 
-namespace mostar::sim {
+#include "robot_server/serial/baud_rate.h"
 
-int BaudOfSpeed(unsigned int speed) {
-  switch (speed) {
-    case B9600:
-      return 9600;
-    case B19200:
-      return 19200;
-    case B38400:
-      return 38400;
-    case B57600:
-      return 57600;
-    case B115200:
-      return 115200;
-    case B500000:
-      return 500000;
-    default:
-      return 0;
-  }
-}
+namespace mostar::sim {
 
 Lms200PtyRunner::Lms200PtyRunner(Lms200Emulator* emulator, std::string link_path)
     : emulator_(emulator), link_path_(std::move(link_path)) {}
@@ -146,8 +130,7 @@ void Lms200PtyRunner::Run() {
     ::poll(&pfd, 1, 1);
     std::lock_guard<std::mutex> lock(mutex_);
     if (master_fd_ != fd) continue;  // replugged meanwhile
-    termios tio{};
-    const int host_baud = tcgetattr(fd, &tio) == 0 ? BaudOfSpeed(cfgetospeed(&tio)) : 0;
+    const int host_baud = std::max(0, serial::LineBaud(fd));
     if ((pfd.revents & POLLIN) != 0) {
       const ssize_t n = ::read(fd, buffer, sizeof(buffer));
       if (n > 0) {
@@ -160,7 +143,10 @@ void Lms200PtyRunner::Run() {
     size_t written = 0;
     while (written < out.size()) {
       const ssize_t n = ::write(fd, out.data() + written, out.size() - written);
-      if (n <= 0) break;  // host not reading: the bytes are lost, like a UART overrun
+      if (n <= 0) {  // host not reading: the bytes are lost, like a UART overrun
+        bytes_overrun_ += out.size() - written;
+        break;
+      }
       written += static_cast<size_t>(n);
     }
   }

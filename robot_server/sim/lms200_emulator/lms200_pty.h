@@ -37,6 +37,9 @@ class Lms200PtyRunner {
   void Unplug();
   bool Replug(std::string* error);
 
+  // Device bytes the pty refused while plugged in (the host did not read: a UART overrun).
+  uint64_t bytes_overrun() const { return bytes_overrun_.load(); }
+
  private:
   bool OpenPtyLocked(std::string* error);
   void ClosePtyLocked();
@@ -49,10 +52,8 @@ class Lms200PtyRunner {
   int slave_keeper_fd_ = -1;  // keeps the slave open so the master never sees EIO
   std::string slave_path_;
   std::atomic<bool> stop_{false};
+  std::atomic<uint64_t> bytes_overrun_{0};
   std::thread thread_;
 };
-
-// Baud rate of a termios speed constant (B9600 -> 9600); 0 when unknown.
-int BaudOfSpeed(unsigned int speed);
 
 }  // namespace mostar::sim
