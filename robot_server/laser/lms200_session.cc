@@ -122,7 +122,7 @@ Duration Lms200Session::WatchdogTimeout() const {
   return std::max<Duration>(3 * ExpectedScanPeriod(), options_.min_watchdog);
 }
 
-bool Lms200Session::Pump(SteadyTime deadline, std::string* error) {
+bool Lms200Session::Pump(SteadyTime deadline, std::string* error, Duration idle_gap) {
   uint8_t buffer[1024];
   while (pending_.empty()) {
     if (cancel_.load()) {
@@ -131,14 +131,14 @@ bool Lms200Session::Pump(SteadyTime deadline, std::string* error) {
     }
     const SteadyTime now = clock_->SteadyNow();
     if (now >= deadline) return true;
-    const Duration wait = std::min<Duration>(deadline - now, options_.idle_gap);
+    const Duration wait = std::min<Duration>(deadline - now, idle_gap);
     const int n = stream_->Read(buffer, sizeof(buffer), wait, error);
     if (n < 0) return false;
     std::vector<FramerEvent> events;
     if (n > 0) {
       last_rx_ = clock_->SteadyNow();
       framer_.Push(buffer, static_cast<size_t>(n), &events);
-    } else if (framer_.holds_partial() && clock_->SteadyNow() - last_rx_ >= options_.idle_gap) {
+    } else if (framer_.holds_partial() && clock_->SteadyNow() - last_rx_ >= idle_gap) {
       framer_.AbandonPartial(&events);
     }
     const Time arrival = clock_->Now();
@@ -164,7 +164,7 @@ Lms200Session::TxResult Lms200Session::Transact(const std::vector<uint8_t>& requ
     SteadyTime deadline = clock_->SteadyNow() + options_.ack_timeout + timeout;
     result = TxResult::kTimeout;
     while (result == TxResult::kTimeout) {
-      if (!Pump(deadline, error)) {
+      if (!Pump(deadline, error, options_.idle_gap)) {
         return cancel_.load() ? TxResult::kCancelled : TxResult::kIoError;
       }
       if (pending_.empty()) break;  // deadline reached
@@ -432,7 +432,8 @@ void Lms200Session::HandleScanFrame(const TimedEvent& event, const ScanCallback&
 
 void Lms200Session::StepStreaming(const ScanCallback& on_scan) {
   std::string error;
-  if (!Pump(clock_->SteadyNow() + std::chrono::milliseconds(50), &error)) {
+  if (!Pump(clock_->SteadyNow() + std::chrono::milliseconds(50), &error,
+            options_.streaming_idle_gap)) {
     if (!cancel_.load()) LostPort(error);
     return;
   }

@@ -63,8 +63,13 @@ struct Lms200SessionOptions {
   Duration reopen_interval = std::chrono::milliseconds(250);
   Duration retry_pause = std::chrono::milliseconds(200);  // after a failed start-up
   Duration min_watchdog = std::chrono::seconds(1);
-  // Quiet line after which a held partial telegram is abandoned (LMS gap <= 14 ms).
+  // Quiet line after which a held partial telegram is abandoned (LMS gap <= 14 ms), during
+  // transactions. While streaming, a partial is only abandoned after `streaming_idle_gap`: a
+  // scan whose bytes pause longer than the LMS's own gaps (a USB adapter's latency timer, a
+  // busy host) is still delivered, and the next telegram completes and resolves any false or
+  // truncated candidate sooner than that anyway.
   Duration idle_gap = std::chrono::milliseconds(20);
+  Duration streaming_idle_gap = std::chrono::milliseconds(200);
   // Idle time between the bytes of a request at 500000 Bd (spec: >= 55 us; at most 6 ms or
   // the scanner ignores the telegram). At 38400 Bd and below a byte lasts >= 260 us: none.
   Duration fast_byte_gap = std::chrono::microseconds(60);
@@ -116,7 +121,8 @@ class Lms200Session {
                     int max_sends, Lms200Frame* reply, std::string* error,
                     bool scan_confirms = false);
   // Reads until at least one event is pending or `deadline`; false on I/O failure/cancel.
-  bool Pump(SteadyTime deadline, std::string* error);
+  // A partial telegram is abandoned after `idle_gap` of quiet line.
+  bool Pump(SteadyTime deadline, std::string* error, Duration idle_gap);
   void HandleScanFrame(const TimedEvent& event, const ScanCallback& on_scan);
   void StepStreaming(const ScanCallback& on_scan);
   void Sleep(Duration d);

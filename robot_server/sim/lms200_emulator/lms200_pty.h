@@ -37,8 +37,10 @@ class Lms200PtyRunner {
   void Unplug();
   bool Replug(std::string* error);
 
-  // Device bytes the pty refused while plugged in (the host did not read: a UART overrun).
+  // Device bytes lost while plugged in because the host did not read them: more than a
+  // serial port's kernel receive buffer (kHostBufferBytes) was waiting (a UART overrun).
   uint64_t bytes_overrun() const { return bytes_overrun_.load(); }
+  static constexpr size_t kHostBufferBytes = 64 * 1024;
 
  private:
   bool OpenPtyLocked(std::string* error);

@@ -108,23 +108,6 @@ laser::Lms200Config Config500k() {
   return config;
 }
 
-// Numbers the scans it is asked for: beam 0 of the n-th scan reads 0.5 m + (n mod 4096) mm,
-// the other beams 3 m. The n-th Sample call is the emulator's scan id n.
-class NumberedRangeSource final : public RangeSource {
- public:
-  void Sample(SteadyTime, float, float, int count, std::vector<float>* ranges_m) override {
-    ranges_m->assign(static_cast<size_t>(count), 3.0f);
-    (*ranges_m)[0] = 0.5f + static_cast<float>(next_++ % kModulus) * 0.001f;
-  }
-  static uint64_t Number(const LaserScan& scan) {
-    return static_cast<uint64_t>(std::llround((scan.ranges_m[0] - 0.5) * 1000.0));
-  }
-  static constexpr uint64_t kModulus = 4096;
-
- private:
-  uint64_t next_ = 0;  // called on the emulator's thread only
-};
-
 class Lms200PtySessionBaudTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(Lms200PtySessionBaudTest, StartsAtAnyDeviceBaudAndStreamsAtConfiguredRate) {
@@ -214,7 +197,8 @@ TEST(Lms200PtySessionTest, FaultMixAt500kBdLosesNoValidScan) {
   ASSERT_LT(intact.back().id, NumberedRangeSource::kModulus);  // numbers are unique
   auto delivered_numbers = [&f] {
     std::multiset<uint64_t> numbers;
-    for (const LaserScan& scan : f.scans()) numbers.insert(NumberedRangeSource::Number(scan));
+    for (const LaserScan& scan : f.scans())
+      numbers.insert(NumberedRangeSource::Number(scan.ranges_m));
     return numbers;
   };
   // The last intact scan arrives (bounded wait), unless it is lost: then the check below says so.

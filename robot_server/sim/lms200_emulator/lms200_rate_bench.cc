@@ -3,8 +3,9 @@
 // the end of a mirror turn when the line is free), times the share of telegrams sent intact
 // when line faults are injected. The emulator powers up at 9600 Bd; the driver switches it.
 // `valid` counts the scan telegrams the emulator sent intact in the measured window,
-// `delivered` the scans the driver handed over in it (they differ by the telegram in flight
-// at either end, or by valid scans the driver lost).
+// `delivered` the scans the driver handed over in it, `lost` the valid ones of the window the
+// driver never handed over (scans are numbered by the range source; a second of grace after
+// the window lets a driver that lags behind catch up).
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +14,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <thread>
 
 #include "robot_server/laser/lms200_scanner.h"
@@ -29,7 +32,7 @@ struct Row {
 
 struct Measured {
   double hz = 0;
-  long valid = 0, delivered = 0;
+  long valid = 0, delivered = 0, lost = 0;
 };
 
 Measured Measure(const Row& row, double seconds_to_measure) {
@@ -39,8 +42,8 @@ Measured Measure(const Row& row, double seconds_to_measure) {
   options.garbage_rate = row.garbage_rate;
   options.crc_error_rate = row.crc_error_rate;
   options.truncate_rate = row.truncate_rate;
-  sim::RoomRangeSource room(10, 6, 5, 3);
-  sim::Lms200Emulator emulator(options, &room, std::chrono::steady_clock::now());
+  sim::NumberedRangeSource numbered;
+  sim::Lms200Emulator emulator(options, &numbered, std::chrono::steady_clock::now());
   char dir[] = "/tmp/lms200_bench_XXXXXX";
   const std::string link = std::string(mkdtemp(dir)) + "/lms200";
   sim::Lms200PtyRunner runner(&emulator, link);
@@ -56,9 +59,17 @@ Measured Measure(const Row& row, double seconds_to_measure) {
   config.set_angle_deg(row.variant.angle_deg);
   config.set_resolution_cdeg(row.variant.resolution_cdeg);
   std::atomic<int> scans{0};
+  std::mutex mutex;
+  std::set<uint64_t> numbers;  // of the scans delivered
   laser::Lms200Scanner scanner(std::make_unique<laser::SerialByteStream>(link, row.baud),
                                &SystemClock::Instance(), config);
-  scanner.Start([&](const LaserScan&) { ++scans; }, &error);
+  scanner.Start(
+      [&](const LaserScan& scan) {
+        std::lock_guard<std::mutex> lock(mutex);
+        numbers.insert(sim::NumberedRangeSource::Number(scan.ranges_m));
+        ++scans;
+      },
+      &error);
   // Wait for streaming, then count.
   for (int i = 0; i < 200 && scans.load() == 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -71,10 +82,16 @@ Measured Measure(const Row& row, double seconds_to_measure) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const int counted = scans.load() - start;
   const auto t1 = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::seconds(1));
   Measured m;
   m.hz = counted / elapsed;
   m.delivered = counted;
-  for (const auto& scan : emulator.IntactScans()) m.valid += scan.done >= t0 && scan.done < t1;
+  std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& scan : emulator.IntactScans()) {
+    if (scan.done < t0 || scan.done >= t1) continue;
+    ++m.valid;
+    m.lost += numbers.count(scan.id % sim::NumberedRangeSource::kModulus) == 0;
+  }
   scanner.Stop();
   runner.Stop();
   ::rmdir(dir);
@@ -91,8 +108,8 @@ int main(int argc, char** argv) {
                       {500000, {180, 50}},
                       {500000, {180, 100}, 0.05, 0.02, 0.01},
                       {500000, {180, 100}, 0.1, 0.1, 0.05}};
-  std::printf("%8s %9s %17s %7s %9s %9s %9s %7s %9s %7s\n", "baud", "variant", "faults g/c/t",
-              "bytes", "wire_hz", "cap_hz", "achieved", "%cap", "delivered", "valid");
+  std::printf("%8s %9s %17s %7s %9s %9s %9s %7s %9s %7s %5s\n", "baud", "variant", "faults g/c/t",
+              "bytes", "wire_hz", "cap_hz", "achieved", "%cap", "delivered", "valid", "lost");
   for (const Row& row : rows) {
     const int bytes = 2 * row.variant.values() + 10;
     const double wire_s = bytes * 10.0 / row.baud;
@@ -102,10 +119,10 @@ int main(int argc, char** argv) {
     const double intact = (1 - row.crc_error_rate) * (1 - row.truncate_rate);
     const double cap_hz = intact / (turns * mirror_s);
     const Measured m = Measure(row, seconds);
-    std::printf("%8d %5dx%-3d %5.2f/%4.2f/%4.2f %7d %9.2f %9.2f %9.2f %6.1f%% %9ld %7ld\n",
+    std::printf("%8d %5dx%-3d %5.2f/%4.2f/%4.2f %7d %9.2f %9.2f %9.2f %6.1f%% %9ld %7ld %5ld\n",
                 row.baud, row.variant.angle_deg, row.variant.resolution_cdeg, row.garbage_rate,
                 row.crc_error_rate, row.truncate_rate, bytes, wire_hz, cap_hz, m.hz,
-                100 * m.hz / cap_hz, m.delivered, m.valid);
+                100 * m.hz / cap_hz, m.delivered, m.valid, m.lost);
   }
   return 0;
 }
