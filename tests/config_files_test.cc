@@ -17,6 +17,7 @@
 #include "robot_server/drive/drive_config.h"
 #include "robot_server/drive/drive_config.pb.h"
 #include "robot_server/laser/lms200_config.pb.h"
+#include "robot_server/laser/lms200_session.h"
 #include "robot_server/server_config.pb.h"
 #include "robot_server/sim/scene.h"
 #include "robot_server/sim/sim_world.h"
@@ -50,6 +51,7 @@ bool LoadShippedConfig(const std::string& name, const std::string& path, std::st
     if (!LoadTextConfig(path, &c, error)) return false;
     drive::DriveSettings settings;
     if (!drive::DriveSettingsFromProto(c.drive(), &settings, error)) return false;
+    if (!laser::ValidateLms200Config(c.laser(), error)) return false;
     return sim::ValidateSimConfig(c.sim(), path, error);
   }
   if (StartsWith(name, "calibration_")) {

@@ -34,7 +34,7 @@ Common CommonOf(Stream stream) {
     case Stream::kVideo:
       return {fdds::RELIABLE_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
     case Stream::kSensor:
-      return {fdds::BEST_EFFORT_RELIABILITY_QOS, 5, fdds::VOLATILE_DURABILITY_QOS};
+      return {fdds::BEST_EFFORT_RELIABILITY_QOS, kSensorDepth, fdds::VOLATILE_DURABILITY_QOS};
     case Stream::kCommand:
       return {fdds::RELIABLE_RELIABILITY_QOS, 1, fdds::VOLATILE_DURABILITY_QOS};
     case Stream::kState:

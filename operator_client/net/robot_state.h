@@ -64,7 +64,8 @@ class RobotState {
   // When the pong to ping `sequence` came back (epoch when it did not), for the next ping's t3.
   Time PongReceipt(uint64_t sequence) const;
 
-  // The scan whose stamp is nearest to `stamp` (robot clock), among the last 32.
+  // The scan whose stamp is nearest to `stamp` (robot clock), among those stamped within
+  // kScanHistory of the newest (at most kMaxScans: 3.4 s at the LMS200's 75 Hz).
   std::optional<LaserScan> NearestScan(Time stamp) const;
   RobotSnapshot Snapshot() const;
   // The e-stop state of the latest health (nullopt before the first), and in `received` when
@@ -80,6 +81,8 @@ class RobotState {
   timesync::ClockOffsetEstimator offset_;
   RobotSnapshot snapshot_;
   static constexpr size_t kPingLossWindow = 50;
+  static constexpr Duration kScanHistory = std::chrono::seconds(3);
+  static constexpr size_t kMaxScans = 256;
   std::deque<uint64_t> pong_sequences_;  // received, increasing, at most kPingLossWindow
   uint64_t last_pong_sequence_ = 0;
   Time last_pong_receipt_;

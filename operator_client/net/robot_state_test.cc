@@ -102,8 +102,25 @@ TEST(RobotStateTest, KeepsOnlyRecentScans) {
   for (int i = 0; i < 100; ++i) {
     state.AddScan(ScanAt(t0 + std::chrono::milliseconds(100 * i), static_cast<float>(i)));
   }
-  EXPECT_EQ(state.NearestScan(t0)->ranges_m[0], 68);  // the oldest of the last 32
+  // 10 Hz: the oldest scan kept is the first stamped within 3 s of the newest (9.9 s).
+  EXPECT_EQ(state.NearestScan(t0)->ranges_m[0], 69);
   EXPECT_EQ(state.Snapshot().scans, 100u);
+}
+
+TEST(RobotStateTest, KeepsTheSameTimeSpanOfScansAt75Hz) {
+  FakeClock clock;
+  RobotState state(&clock);
+  const Time t0 = clock.Now();
+  const Duration period = FromSeconds(0.01332);  // LMS200 at 500 kBd: every mirror turn
+  for (int i = 0; i < 300; ++i) state.AddScan(ScanAt(t0 + i * period, static_cast<float>(i)));
+  // Newest at 3.98 s: scans from 0.98 s on are kept (index 74), not just the last 32.
+  EXPECT_EQ(state.NearestScan(t0)->ranges_m[0], 74);
+  EXPECT_EQ(state.NearestScan(t0 + 200 * period + period / 3)->ranges_m[0], 200);
+  // A burst faster than any scanner is still bounded in count.
+  for (int i = 0; i < 1000; ++i) {
+    state.AddScan(ScanAt(t0 + 300 * period + std::chrono::microseconds(i), 1000.0f + i));
+  }
+  EXPECT_EQ(state.NearestScan(t0)->ranges_m[0], 1000.0f + 1000 - 256);
 }
 
 TEST(RobotStateTest, ClockOffsetFromPongs) {

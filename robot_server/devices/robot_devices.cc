@@ -114,8 +114,8 @@ bool MakeSimDevices(const ServerConfig& config, const std::string& config_dir, c
   // One emulator link per process, so that several simulated robots can run side by side.
   const std::string link =
       config.sim_laser_link() + "-" + std::to_string(static_cast<long>(getpid()));
-  devices->sim_laser =
-      sim::SimulatedLms200::Create(devices->world.get(), config.laser(), link, clock, error);
+  devices->sim_laser = sim::SimulatedLms200::Create(devices->world.get(), config.laser(), link,
+                                                    clock, error, config.sim().laser());
   return devices->sim_laser != nullptr;
 }
 

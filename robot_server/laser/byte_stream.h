@@ -23,15 +23,21 @@ class ByteStream {
   ByteStream& operator=(const ByteStream&) = delete;
   virtual ~ByteStream() = default;
 
-  // Queues all `size` bytes for transmission in one write. False on failure.
+  // Queues all `size` bytes for transmission (paced, see SetWriteByteGap). False on failure.
   virtual bool Write(const uint8_t* data, size_t size, std::string* error) = 0;
+
+  // Idle line time to leave between two bytes this stream sends; zero (the default) writes
+  // back to back. A device that needs it (the LMS200 above 38400 Bd: at least 55 us) then
+  // gets one byte at a time, so a Write of n bytes blocks for at least (n - 1) * gap.
+  virtual void SetWriteByteGap(Duration gap) = 0;
 
   // Waits up to `timeout` for input; copies at most `max` available bytes into `buffer`.
   // Returns the number of bytes copied (0 = timeout), or -1 on failure (device gone).
   virtual int Read(uint8_t* buffer, size_t max, Duration timeout, std::string* error) = 0;
 
   // Sets the line speed; takes effect for bytes written afterwards. False when the rate is
-  // not supported or the device is gone. The rate is kept across `Reopen()`.
+  // not supported (by the code, or by the device: a UART that would run at another rate) or
+  // the device is gone. The rate is kept across `Reopen()`.
   virtual bool SetBaudRate(int baud, std::string* error) = 0;
   virtual int baud_rate() const = 0;
 

@@ -54,7 +54,15 @@ class FakeByteStream final : public ByteStream {
     input_.erase(input_.begin(), input_.begin() + static_cast<std::ptrdiff_t>(n));
     return static_cast<int>(n);
   }
-  bool SetBaudRate(int baud, std::string*) override {
+  void SetWriteByteGap(Duration gap) override { write_byte_gap_ = gap; }
+  Duration write_byte_gap() const { return write_byte_gap_; }
+  // Rates above `max` are refused, like an adapter that cannot produce them.
+  void set_max_baud(int max) { max_baud_ = max; }
+  bool SetBaudRate(int baud, std::string* error) override {
+    if (baud > max_baud_) {
+      if (error) *error = "fake adapter: no " + std::to_string(baud) + " Bd";
+      return false;
+    }
     baud_ = baud;
     return true;
   }
@@ -80,6 +88,8 @@ class FakeByteStream final : public ByteStream {
   std::deque<uint8_t> input_;
   std::vector<std::vector<uint8_t>> writes_;
   int baud_ = 9600;
+  int max_baud_ = 1 << 30;
+  Duration write_byte_gap_{0};
   bool open_ = false;
   bool unplugged_ = false;
   int reopen_count_ = 0;

@@ -122,7 +122,7 @@ Duration Lms200Session::WatchdogTimeout() const {
   return std::max<Duration>(3 * ExpectedScanPeriod(), options_.min_watchdog);
 }
 
-bool Lms200Session::Pump(SteadyTime deadline, std::string* error) {
+bool Lms200Session::Pump(SteadyTime deadline, std::string* error, Duration idle_gap) {
   uint8_t buffer[1024];
   while (pending_.empty()) {
     if (cancel_.load()) {
@@ -131,14 +131,14 @@ bool Lms200Session::Pump(SteadyTime deadline, std::string* error) {
     }
     const SteadyTime now = clock_->SteadyNow();
     if (now >= deadline) return true;
-    const Duration wait = std::min<Duration>(deadline - now, options_.idle_gap);
+    const Duration wait = std::min<Duration>(deadline - now, idle_gap);
     const int n = stream_->Read(buffer, sizeof(buffer), wait, error);
     if (n < 0) return false;
     std::vector<FramerEvent> events;
     if (n > 0) {
       last_rx_ = clock_->SteadyNow();
       framer_.Push(buffer, static_cast<size_t>(n), &events);
-    } else if (framer_.holds_partial() && clock_->SteadyNow() - last_rx_ >= options_.idle_gap) {
+    } else if (framer_.holds_partial() && clock_->SteadyNow() - last_rx_ >= idle_gap) {
       framer_.AbandonPartial(&events);
     }
     const Time arrival = clock_->Now();
@@ -151,7 +151,8 @@ bool Lms200Session::Pump(SteadyTime deadline, std::string* error) {
 
 Lms200Session::TxResult Lms200Session::Transact(const std::vector<uint8_t>& request,
                                                 uint8_t reply_code, Duration timeout, int max_sends,
-                                                Lms200Frame* reply, std::string* error) {
+                                                Lms200Frame* reply, std::string* error,
+                                                bool scan_confirms) {
   TxResult result = TxResult::kTimeout;
   for (int send = 0; send < max_sends; ++send) {
     if (send > 0) Count("resends");
@@ -163,7 +164,7 @@ Lms200Session::TxResult Lms200Session::Transact(const std::vector<uint8_t>& requ
     SteadyTime deadline = clock_->SteadyNow() + options_.ack_timeout + timeout;
     result = TxResult::kTimeout;
     while (result == TxResult::kTimeout) {
-      if (!Pump(deadline, error)) {
+      if (!Pump(deadline, error, options_.idle_gap)) {
         return cancel_.load() ? TxResult::kCancelled : TxResult::kIoError;
       }
       if (pending_.empty()) break;  // deadline reached
@@ -180,6 +181,11 @@ Lms200Session::TxResult Lms200Session::Transact(const std::vector<uint8_t>& requ
         case FramerEventType::kFrame:
           if (event.event.frame.command() == reply_code) {
             *reply = std::move(event.event.frame);
+            return TxResult::kOk;
+          }
+          if (scan_confirms && event.event.frame.command() == kReplyScan) {
+            *reply = event.event.frame;
+            pending_.push_front(std::move(event));
             return TxResult::kOk;
           }
           if (IsRejection(event.event.frame)) {
@@ -210,7 +216,7 @@ bool Lms200Session::DetectBaud(std::string* error) {
   for (int baud : candidates) {
     if (std::find(tried.begin(), tried.end(), baud) != tried.end()) continue;
     tried.push_back(baud);
-    if (!stream_->SetBaudRate(baud, error)) continue;
+    if (!SetLineBaud(baud, error)) continue;
     Lms200Frame reply;
     // "Stop streaming" first: a scanner left streaming floods the line with B0 frames.
     const TxResult result = Transact(StopContinuousRequest(address), kReplyMode,
@@ -226,8 +232,17 @@ bool Lms200Session::DetectBaud(std::string* error) {
   return false;
 }
 
+bool Lms200Session::SetLineBaud(int baud, std::string* error) {
+  stream_->SetWriteByteGap(baud > 38400 ? options_.fast_byte_gap : Duration::zero());
+  return stream_->SetBaudRate(baud, error);
+}
+
 bool Lms200Session::SwitchBaud(int baud, std::string* error) {
   const uint8_t address = static_cast<uint8_t>(config_.address());
+  // An adapter that cannot run at the new rate is found out before the scanner moves to it.
+  const int old_baud = stream_->baud_rate();
+  const bool host_can = SetLineBaud(baud, error);
+  if (!SetLineBaud(old_baud, host_can ? error : nullptr) || !host_can) return false;
   Lms200Frame reply;
   Lms200ModeReply mode;
   if (Transact(BaudRequest(baud, address), kReplyMode, options_.mode_timeout, options_.max_sends,
@@ -240,7 +255,7 @@ bool Lms200Session::SwitchBaud(int baud, std::string* error) {
     return false;
   }
   // The reply came at the old rate; the scanner now listens at the new one.
-  if (!stream_->SetBaudRate(baud, error)) return false;
+  if (!SetLineBaud(baud, error)) return false;
   Sleep(options_.baud_settle);
   if (Transact(StopContinuousRequest(address), kReplyMode, options_.reply_timeout,
                options_.max_sends, &reply, error) != TxResult::kOk) {
@@ -340,12 +355,18 @@ bool Lms200Session::StartUp(std::string* error) {
   }
   Lms200Frame reply;
   Lms200ModeReply mode;
+  // A scan before the reply (the reply lost on the line) confirms as well: waiting for the
+  // reply's timeout and asking again would drop every scan meanwhile.
   if (Transact(StartContinuousRequest(static_cast<uint8_t>(config_.address())), kReplyMode,
-               options_.mode_timeout, options_.max_sends, &reply, error) != TxResult::kOk ||
-      !DecodeModeReply(reply, &mode, error)) {
+               options_.mode_timeout, options_.max_sends, &reply, error,
+               /*scan_confirms=*/true) != TxResult::kOk) {
     return false;
   }
-  if (!mode.ok()) {
+  if (reply.command() == kReplyScan) {
+    Count("start_confirmed_by_scan");
+  } else if (!DecodeModeReply(reply, &mode, error)) {
+    return false;
+  } else if (!mode.ok()) {
     if (error) *error = "continuous mode refused";
     return false;
   }
@@ -411,7 +432,8 @@ void Lms200Session::HandleScanFrame(const TimedEvent& event, const ScanCallback&
 
 void Lms200Session::StepStreaming(const ScanCallback& on_scan) {
   std::string error;
-  if (!Pump(clock_->SteadyNow() + std::chrono::milliseconds(50), &error)) {
+  if (!Pump(clock_->SteadyNow() + std::chrono::milliseconds(50), &error,
+            options_.streaming_idle_gap)) {
     if (!cancel_.load()) LostPort(error);
     return;
   }

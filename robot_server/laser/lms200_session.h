@@ -11,6 +11,7 @@
 //  5. baud switched (20 4x): the reply comes at the old rate, then the host follows and
 //     verifies at the new rate;
 //  6. continuous output (20 24) started.
+// Requests at 500000 Bd are paced byte by byte (`fast_byte_gap`), as the telegram listing asks.
 // Transactions wait for the ACK byte, resend after a NAK (after >= 30 ms), treat a 0x92 reply
 // as a rejection (not retried) and use the listing's timeouts (3 s for mode changes, 15 s
 // for EEPROM writes).
@@ -62,8 +63,16 @@ struct Lms200SessionOptions {
   Duration reopen_interval = std::chrono::milliseconds(250);
   Duration retry_pause = std::chrono::milliseconds(200);  // after a failed start-up
   Duration min_watchdog = std::chrono::seconds(1);
-  // Quiet line after which a held partial telegram is abandoned (LMS gap <= 14 ms).
+  // Quiet line after which a held partial telegram is abandoned (LMS gap <= 14 ms), during
+  // transactions. While streaming, a partial is only abandoned after `streaming_idle_gap`: a
+  // scan whose bytes pause longer than the LMS's own gaps (a USB adapter's latency timer, a
+  // busy host) is still delivered, and the next telegram completes and resolves any false or
+  // truncated candidate sooner than that anyway.
   Duration idle_gap = std::chrono::milliseconds(20);
+  Duration streaming_idle_gap = std::chrono::milliseconds(200);
+  // Idle time between the bytes of a request at 500000 Bd (spec: >= 55 us; at most 6 ms or
+  // the scanner ignores the telegram). At 38400 Bd and below a byte lasts >= 260 us: none.
+  Duration fast_byte_gap = std::chrono::microseconds(60);
   int max_sends = 3;
   // Pauses the device thread; tests pass FakeClock::Advance. Default: real sleep.
   std::function<void(Duration)> sleep;
@@ -104,10 +113,16 @@ class Lms200Session {
   bool DetectBaud(std::string* error);
   bool ConfigureDevice(std::string* error);
   bool SwitchBaud(int baud, std::string* error);
+  // Sets the host's line rate and the byte pacing the scanner needs at that rate.
+  bool SetLineBaud(int baud, std::string* error);
+  // `scan_confirms`: a scan telegram also answers the request (start continuous: the scanner
+  // streams, whatever happened to its reply); the scan stays pending for delivery.
   TxResult Transact(const std::vector<uint8_t>& request, uint8_t reply_code, Duration timeout,
-                    int max_sends, Lms200Frame* reply, std::string* error);
+                    int max_sends, Lms200Frame* reply, std::string* error,
+                    bool scan_confirms = false);
   // Reads until at least one event is pending or `deadline`; false on I/O failure/cancel.
-  bool Pump(SteadyTime deadline, std::string* error);
+  // A partial telegram is abandoned after `idle_gap` of quiet line.
+  bool Pump(SteadyTime deadline, std::string* error, Duration idle_gap);
   void HandleScanFrame(const TimedEvent& event, const ScanCallback& on_scan);
   void StepStreaming(const ScanCallback& on_scan);
   void Sleep(Duration d);

@@ -43,17 +43,20 @@ class ScriptedDevice {
     stream->set_on_write([this](const Bytes& w, FakeByteStream* s) { OnWrite(w, s); });
   }
   int scans_per_start = 5;
-  int nak_first = 0;  // answer the first n requests with NAK
+  int nak_first = 0;                 // answer the first n requests with NAK
+  bool corrupt_start_reply = false;  // the A0 to "start continuous" arrives with a bad CRC
   int starts = 0;
   int config_writes = 0;
   std::vector<uint8_t> commands;
   std::vector<int> write_bauds;   // the host's line rate at each request written, answered or not
   std::vector<int> baud_changes;  // rates the host told the device to move to, in order
+  std::vector<Duration> write_gaps;  // the stream's byte pacing at each request written
   int device_baud() const { return device_baud_; }
 
  private:
   void OnWrite(const Bytes& w, FakeByteStream* s) {
     write_bauds.push_back(s->baud_rate());
+    write_gaps.push_back(s->write_byte_gap());
     if (s->baud_rate() != device_baud_ || w.size() < 5) return;  // wrong rate: garbage
     if (nak_first > 0) {
       --nak_first;
@@ -67,6 +70,7 @@ class ScriptedDevice {
     if (cmd == 0x20 && w[5] == 0x24) {
       ++starts;
       reply = Reply({0xA0, 0x00, 0x10});
+      if (corrupt_start_reply) reply.back() ^= 0x5A;
       out.insert(out.end(), reply.begin(), reply.end());
       for (int i = 0; i < scans_per_start; ++i) {
         const Bytes scan = ScanTelegram(static_cast<uint16_t>(1000 + i));
@@ -81,6 +85,7 @@ class ScriptedDevice {
       if (w[5] == kModeBaud38400) new_baud = 38400;
       if (w[5] == kModeBaud19200) new_baud = 19200;
       if (w[5] == kModeBaud9600) new_baud = 9600;
+      if (w[5] == kModeBaud500000) new_baud = 500000;
       if (new_baud != 0) {
         device_baud_ = new_baud;
         baud_changes.push_back(new_baud);
@@ -218,6 +223,68 @@ TEST(Lms200SessionTest, DetectsBaudByProbingAndSwitchesToConfiguredRate) {
   EXPECT_EQ(f.stream.baud_rate(), 38400);
   EXPECT_EQ(Counter(session.Health(), "baud_switches"), 1u);
   EXPECT_EQ(session.state(), Lms200Session::State::kStreaming);
+}
+
+TEST(Lms200SessionTest, AScanConfirmsStreamingWhenTheStartReplyIsLost) {
+  Fixture f;
+  ScriptedDevice device(&f.stream, 38400);
+  device.corrupt_start_reply = true;
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 10 && f.scans.size() < 5; ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  // All five scans, the first included; "start continuous" was not sent again.
+  ASSERT_EQ(f.scans.size(), 5u);
+  EXPECT_FLOAT_EQ(f.scans[0].ranges_m[0], 1.0f);
+  EXPECT_EQ(device.starts, 1);
+  const DeviceHealth health = session.Health();
+  EXPECT_EQ(Counter(health, "start_confirmed_by_scan"), 1u);
+  EXPECT_EQ(Counter(health, "crc_errors"), 1u);
+}
+
+TEST(Lms200SessionTest, SwitchesTo500kBdWithPacedRequests) {
+  Fixture f;
+  f.config.set_baud(500000);
+  f.config.set_rs422(true);
+  ScriptedDevice device(&f.stream, 9600);  // power-on rate
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 10 && f.scans.empty(); ++i) {
+    session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  }
+  ASSERT_FALSE(f.scans.empty());
+  EXPECT_EQ(device.baud_changes, (std::vector<int>{500000}));  // telegram 20 48
+  EXPECT_EQ(f.stream.baud_rate(), 500000);
+  ASSERT_EQ(device.write_bauds.size(), device.write_gaps.size());
+  int paced = 0;
+  for (size_t i = 0; i < device.write_bauds.size(); ++i) {
+    // Paced exactly at 500 kBd, back to back at the RS-232 rates.
+    if (device.write_bauds[i] == 500000) {
+      EXPECT_GE(device.write_gaps[i], std::chrono::microseconds(55));
+      EXPECT_LE(device.write_gaps[i], std::chrono::milliseconds(6));
+      ++paced;
+    } else {
+      EXPECT_EQ(device.write_gaps[i], Duration::zero());
+    }
+  }
+  EXPECT_GE(paced, 2);  // the check after the switch and "start continuous"
+  // The scan period is one mirror turn: the wire (7.4 ms) is faster than the mirror.
+  EXPECT_NEAR(f.scans[0].scan_time_s, kLms200MirrorPeriodS, 1e-6);
+}
+
+TEST(Lms200SessionTest, RefusesARateTheAdapterCannotProduceBeforeTheScannerMoves) {
+  Fixture f;
+  f.config.set_baud(500000);
+  f.config.set_rs422(true);
+  f.stream.set_max_baud(38400);
+  ScriptedDevice device(&f.stream, 9600);
+  Lms200Session session(&f.stream, &f.clock, f.config, f.options);
+  for (int i = 0; i < 6; ++i) session.Step([&](const LaserScan& s) { f.scans.push_back(s); });
+  EXPECT_TRUE(f.scans.empty());
+  EXPECT_TRUE(device.baud_changes.empty());  // the scanner stays reachable at 9600
+  EXPECT_EQ(device.device_baud(), 9600);
+  const DeviceHealth health = session.Health();
+  EXPECT_GE(Counter(health, "startup_failures"), 1u);
+  EXPECT_NE(health.message.find("500000"), std::string::npos) << health.message;
 }
 
 TEST(Lms200SessionTest, ValidatesConfiguration) {

@@ -1,11 +1,13 @@
 #include "robot_server/laser/serial_byte_stream.h"
 
 #include <poll.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <exception>
+#include <thread>
 
 #include "robot_server/serial/baud_rate.h"
 
@@ -41,6 +43,14 @@ bool SerialByteStream::ApplyBaud(std::string* error) {
     port_->SetFlowControl(LibSerial::FlowControl::FLOW_CONTROL_NONE);
   } catch (const std::exception& e) {
     SetError(error, path_ + ": cannot set " + std::to_string(baud_) + " Bd: " + e.what());
+    return false;
+  }
+  const int in_force = serial::LineBaud(port_->GetFileDescriptor());
+  if (in_force != baud_) {
+    SetError(error, path_ + ": asked for " + std::to_string(baud_) + " Bd, the driver runs at " +
+                        (in_force > 0 ? std::to_string(in_force) + " Bd"
+                                      : std::string("a non-standard or unknown rate")) +
+                        " (adapter without this rate?)");
     return false;
   }
   return true;
@@ -87,6 +97,18 @@ bool SerialByteStream::Write(const uint8_t* data, size_t size, std::string* erro
     SetError(error, path_ + " is not open");
     return false;
   }
+  if (write_byte_gap_ <= Duration::zero()) return WriteAll(data, size, error);
+  // One byte at a time: each is drained to the line (for a USB adapter: out of the chip, so
+  // two bytes never share a USB packet) before the gap starts.
+  for (size_t i = 0; i < size; ++i) {
+    if (i > 0) std::this_thread::sleep_for(write_byte_gap_);
+    if (!WriteAll(data + i, 1, error)) return false;
+    ::tcdrain(port_->GetFileDescriptor());  // an unplugged device shows up on the next call
+  }
+  return true;
+}
+
+bool SerialByteStream::WriteAll(const uint8_t* data, size_t size, std::string* error) {
   const int fd = port_->GetFileDescriptor();
   size_t written = 0;
   while (written < size) {

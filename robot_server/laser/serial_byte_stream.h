@@ -1,4 +1,7 @@
 // ByteStream over a serial device (RS-232/RS-422 adapter or pseudo-terminal) with libserial.
+// A rate is only accepted when the kernel reports it in force afterwards: an adapter whose
+// driver cannot produce it (many on-board UARTs at 500000 Bd) is refused with both rates named
+// instead of streaming garbage.
 #pragma once
 
 #include <libserial/SerialPort.h>
@@ -17,6 +20,7 @@ class SerialByteStream final : public ByteStream {
   ~SerialByteStream() override;
 
   bool Write(const uint8_t* data, size_t size, std::string* error) override;
+  void SetWriteByteGap(Duration gap) override { write_byte_gap_ = gap; }
   int Read(uint8_t* buffer, size_t max, Duration timeout, std::string* error) override;
   bool SetBaudRate(int baud, std::string* error) override;
   int baud_rate() const override { return baud_; }
@@ -28,8 +32,11 @@ class SerialByteStream final : public ByteStream {
 
  private:
   bool ApplyBaud(std::string* error);
+  // Writes `size` bytes at once; false (and closed) on failure.
+  bool WriteAll(const uint8_t* data, size_t size, std::string* error);
   std::string path_;
   int baud_;
+  Duration write_byte_gap_{0};
   // Null while closed. Recreated on every open: after the device vanished libserial can no
   // longer close it cleanly (see Close()).
   std::unique_ptr<LibSerial::SerialPort> port_;

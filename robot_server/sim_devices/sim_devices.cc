@@ -96,10 +96,14 @@ int SimDriveMotors::counter_bits() const { return world_->drive_params().encoder
 std::unique_ptr<SimulatedLms200> SimulatedLms200::Create(SimWorld* world,
                                                          laser::Lms200Config config,
                                                          const std::string& link_path,
-                                                         const Clock* clock, std::string* error) {
+                                                         const Clock* clock, std::string* error,
+                                                         const proto::LaserConfig& line) {
   std::unique_ptr<SimulatedLms200> sim(new SimulatedLms200());
   sim->ranges_ = std::make_unique<SimWorldRangeSource>(world, clock->SteadyNow(), clock->Now());
   Lms200EmulatorOptions options;  // factory state: 9600 baud, 180/0.5 deg; the driver sets it up
+  options.garbage_rate = line.line_garbage_rate();
+  options.crc_error_rate = line.line_crc_error_rate();
+  options.truncate_rate = line.line_truncate_rate();
   sim->emulator_ =
       std::make_unique<Lms200Emulator>(options, sim->ranges_.get(), clock->SteadyNow());
   sim->runner_ = std::make_unique<Lms200PtyRunner>(sim->emulator_.get(), link_path);

@@ -69,10 +69,12 @@ class SimDriveMotors final : public drive::DriveMotors {
 // `link_path`) and the real driver (Lms200Scanner over libserial) reading it.
 class SimulatedLms200 {
  public:
-  // Null with a message when the pseudo-terminal cannot be created.
+  // Null with a message when the pseudo-terminal cannot be created. `line` sets the emulated
+  // link's fault rates (sim_config.proto, LaserConfig.line_*).
   static std::unique_ptr<SimulatedLms200> Create(SimWorld* world, laser::Lms200Config config,
                                                  const std::string& link_path, const Clock* clock,
-                                                 std::string* error);
+                                                 std::string* error,
+                                                 const proto::LaserConfig& line = {});
   ~SimulatedLms200();
   laser::LaserScanner* scanner() { return scanner_.get(); }
   Lms200Emulator* emulator() { return emulator_.get(); }

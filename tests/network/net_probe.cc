@@ -11,6 +11,7 @@
 //          scan_age_p50_ms=.. scan_age_p95_ms=.. ping_oneway_p50_ms=.. ping_rtt_p50_ms=..
 //          pongs=N command_writer=ok|refused|none measured_s=.. estops_sent=N
 //          estop_seen_after_s=S|no releases_sent=N robot_estop=engaged|clear
+//          scan_beams=MIN..MAX (beams per scan received; -1 before the first)
 // and with --samples FILE one line per sample: topic,receive_ns,stamp_ns.
 //
 // --try-command-writer asks DDS for a cmd_vel writer (without publishing), to check that DDS
@@ -144,7 +145,8 @@ int Main(int argc, char** argv) {
   namespace topics = dds::topics;
   using dds::Stream;
   auto& p = *participant;
-  std::atomic<bool> robot_estop{false};  // as the robot's last health said
+  std::atomic<bool> robot_estop{false};                     // as the robot's last health said
+  std::atomic<int> scan_beams_min{-1}, scan_beams_max{-1};  // beams per scan (one DDS thread)
   dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> left(
       p, topics::kCameraLeft, Stream::kVideo, [&](const dds::wire::CompressedImage& m) {
         recorder.Add("left", dds::FromIdl(m.header().stamp()));
@@ -156,6 +158,9 @@ int Main(int argc, char** argv) {
   dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
       p, topics::kScan, Stream::kSensor, [&](const dds::wire::LaserScan& m) {
         recorder.Add("scan", dds::FromIdl(m.header().stamp()));
+        const int beams = static_cast<int>(m.ranges().size());
+        if (scan_beams_min.load() < 0 || beams < scan_beams_min.load()) scan_beams_min = beams;
+        scan_beams_max = std::max(scan_beams_max.load(), beams);
       });
   dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType> odom(
       p, topics::kOdometry, Stream::kSensor, [&](const dds::wire::Odometry& m) {
@@ -257,14 +262,15 @@ int Main(int argc, char** argv) {
                 "left_age_p50_ms=%.1f left_age_p95_ms=%.1f scan_age_p50_ms=%.1f "
                 "scan_age_p95_ms=%.1f ping_oneway_p50_ms=%.1f ping_rtt_p50_ms=%.1f pongs=%d "
                 "command_writer=%s measured_s=%.2f estops_sent=%d estop_seen_after_s=%s "
-                "releases_sent=%d robot_estop=%s",
+                "releases_sent=%d robot_estop=%s scan_beams=%d..%d",
                 recorder.Count("left"), recorder.Count("right"), recorder.Count("scan"),
                 recorder.Count("odom"), recorder.Count("health"), recorder.Count("lease"),
                 recorder.Percentile("left", 0.5), recorder.Percentile("left", 0.95),
                 recorder.Percentile("scan", 0.5), recorder.Percentile("scan", 0.95),
                 recorder.Percentile("ping_oneway", 0.5), recorder.Percentile("ping_rtt", 0.5),
                 recorder.Count("ping_rtt"), command_writer.c_str(), recorder.MeasuredSeconds(),
-                estops_sent, estop_seen.c_str(), releases_sent, robot_estop ? "engaged" : "clear");
+                estops_sent, estop_seen.c_str(), releases_sent, robot_estop ? "engaged" : "clear",
+                scan_beams_min.load(), scan_beams_max.load());
   std::cout << line << std::endl;
   return 0;
 }

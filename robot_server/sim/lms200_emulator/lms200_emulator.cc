@@ -66,18 +66,20 @@ void Lms200Emulator::RandomBytesLocked(size_t n, std::vector<uint8_t>* out) {
   for (size_t i = 0; i < n; ++i) out->push_back(static_cast<uint8_t>(byte(rng_)));
 }
 
-void Lms200Emulator::SendLocked(const std::vector<uint8_t>& bytes, SteadyTime at) {
+void Lms200Emulator::SendLocked(const std::vector<uint8_t>& bytes, SteadyTime at, uint64_t scan,
+                                size_t telegram_bytes) {
   SteadyTime t = std::max(at, tx_free_);
   const Duration per_byte = ByteTime(baud_);
-  for (uint8_t b : bytes) {
+  for (size_t i = 0; i < bytes.size(); ++i) {
     t += per_byte;
-    tx_.push_back({b, t, baud_});
+    const bool in_telegram = scan != 0 && i + telegram_bytes >= bytes.size();
+    tx_.push_back({bytes[i], t, baud_, in_telegram ? scan : 0, i + 1 == bytes.size()});
   }
   tx_free_ = t;
 }
 
 void Lms200Emulator::SendReplyLocked(const std::vector<uint8_t>& payload, SteadyTime at,
-                                     bool with_ack) {
+                                     bool with_ack, uint64_t scan) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::vector<uint8_t> bytes;
   if (options_.garbage_rate > 0 && uniform(rng_) < options_.garbage_rate) {
@@ -89,14 +91,16 @@ void Lms200Emulator::SendReplyLocked(const std::vector<uint8_t>& payload, Steady
       (options_.crc_error_rate > 0 && uniform(rng_) < options_.crc_error_rate)) {
     if (corrupt_next_ > 0) --corrupt_next_;
     telegram.back() ^= 0x5A;
+    scan = 0;
   }
   if (truncate_next_ > 0 ||
       (options_.truncate_rate > 0 && uniform(rng_) < options_.truncate_rate)) {
     if (truncate_next_ > 0) --truncate_next_;
     telegram.resize(telegram.size() / 2);
+    scan = 0;
   }
   bytes.insert(bytes.end(), telegram.begin(), telegram.end());
-  SendLocked(bytes, at);
+  SendLocked(bytes, at, scan, telegram.size());
 }
 
 void Lms200Emulator::ApplyPendingLocked(SteadyTime now) {
@@ -212,6 +216,7 @@ void Lms200Emulator::HandleRequestLocked(const Lms200Frame& frame, SteadyTime no
       } else if (sub == laser::kModeContinuous) {
         mode_ = sub;
         installation_ = false;
+        ++stream_starts_;
       } else if (sub == laser::kModeOnRequest) {
         mode_ = sub;
         installation_ = false;
@@ -230,7 +235,7 @@ void Lms200Emulator::HandleRequestLocked(const Lms200Frame& frame, SteadyTime no
     }
     case laser::kCmdPollScan:
       if (p.size() == 2 && p[1] == 0x01) {
-        SendReplyLocked(ScanPayloadLocked(now), at, true);
+        SendReplyLocked(ScanPayloadLocked(now), at, true, scans_sent_ + 1);
         ++scans_sent_;
         return;
       }
@@ -297,7 +302,7 @@ void Lms200Emulator::AdvanceMirrorLocked(SteadyTime now) {
     revolutions_ += static_cast<uint64_t>(variant_.revolutions());
     ApplyPendingLocked(next_scan_end_);
     if (mode_ == laser::kModeContinuous && tx_free_ <= next_scan_end_ && !silent_) {
-      SendReplyLocked(ScanPayloadLocked(next_scan_end_), next_scan_end_, false);
+      SendReplyLocked(ScanPayloadLocked(next_scan_end_), next_scan_end_, false, scans_sent_ + 1);
       ++scans_sent_;
     }
     next_scan_end_ += period;
@@ -329,7 +334,13 @@ void Lms200Emulator::Transmit(SteadyTime now, int host_baud, std::vector<uint8_t
   std::uniform_int_distribution<int> byte(0, 255);
   while (!tx_.empty() && tx_.front().done <= now) {
     const TxByte& b = tx_.front();
-    out->push_back(b.baud == host_baud ? b.byte : static_cast<uint8_t>(byte(rng_)));
+    const bool heard = b.baud == host_baud;
+    out->push_back(heard ? b.byte : static_cast<uint8_t>(byte(rng_)));
+    if (b.scan != 0 && !heard) spoiled_scan_ = b.scan;
+    if (b.scan != 0 && b.last && spoiled_scan_ != b.scan) {
+      intact_.push_back({b.scan - 1, b.done, stream_starts_});
+      if (intact_.size() > kIntactScanLog) intact_.pop_front();
+    }
     tx_.pop_front();
   }
 }
@@ -387,6 +398,14 @@ int Lms200Emulator::eeprom_writes() const {
 uint64_t Lms200Emulator::scans_sent() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return scans_sent_;
+}
+uint64_t Lms200Emulator::stream_starts() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stream_starts_;
+}
+std::vector<Lms200Emulator::IntactScan> Lms200Emulator::IntactScans() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {intact_.begin(), intact_.end()};
 }
 uint64_t Lms200Emulator::requests_received() const {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -20,7 +20,9 @@
 //   mm mode), 0x1FFF where there is no echo (+Inf), the dazzle code 0x1FFE where the range
 //   source has no measurement (NaN), optional real-time indices;
 // - fault injection: garbage bytes, CRC errors, truncated telegrams, NAKs, silence, forced
-//   beam error codes.
+//   beam error codes;
+// - ground truth for loss tests: every scan telegram that left complete, with a valid CRC and
+//   at the host's rate (`IntactScans`), numbered in the order the scans were taken.
 // Thread-safe: every public method locks an internal mutex.
 #pragma once
 
@@ -61,6 +63,13 @@ struct Lms200EmulatorOptions {
 
 class Lms200Emulator {
  public:
+  // A scan telegram whose every byte left with a valid CRC at the host's rate.
+  struct IntactScan {
+    uint64_t id;             // 0, 1, ...: the order of the range source's Sample calls
+    SteadyTime done;         // its last byte left the emulator
+    uint64_t stream_starts;  // "start continuous" requests (20 24) received before it left
+  };
+
   // `ranges` must outlive the emulator. `start` = power-on time.
   Lms200Emulator(const Lms200EmulatorOptions& options, RangeSource* ranges, SteadyTime start);
 
@@ -87,18 +96,28 @@ class Lms200Emulator {
   int eeprom_writes() const;
   uint64_t scans_sent() const;
   uint64_t requests_received() const;
+  uint64_t stream_starts() const;
+  // The last kIntactScanLog intact scans, oldest first.
+  std::vector<IntactScan> IntactScans() const;
+  static constexpr size_t kIntactScanLog = 4096;
 
  private:
   struct TxByte {
     uint8_t byte;
     SteadyTime done;
     int baud;
+    uint64_t scan;  // scan id + 1 for the bytes of an intact scan telegram, else 0
+    bool last;      // the telegram's last byte
   };
   void ApplyPendingLocked(SteadyTime now);
   void AdvanceMirrorLocked(SteadyTime now);
   void HandleRequestLocked(const laser::Lms200Frame& frame, SteadyTime now);
-  void SendLocked(const std::vector<uint8_t>& bytes, SteadyTime at);
-  void SendReplyLocked(const std::vector<uint8_t>& payload, SteadyTime at, bool with_ack);
+  // `scan`: id + 1 when `bytes` end with an intact scan telegram of `telegram_bytes` bytes.
+  void SendLocked(const std::vector<uint8_t>& bytes, SteadyTime at, uint64_t scan = 0,
+                  size_t telegram_bytes = 0);
+  // `scan`: id + 1 when the payload is a scan.
+  void SendReplyLocked(const std::vector<uint8_t>& payload, SteadyTime at, bool with_ack,
+                       uint64_t scan = 0);
   std::vector<uint8_t> ScanPayloadLocked(SteadyTime scan_end);
   std::vector<uint8_t> StatusPayloadLocked() const;
   void RandomBytesLocked(size_t n, std::vector<uint8_t>* out);
@@ -130,6 +149,9 @@ class Lms200Emulator {
   int eeprom_writes_ = 0;
   uint64_t scans_sent_ = 0;
   uint64_t requests_ = 0;
+  uint64_t stream_starts_ = 0;
+  uint64_t spoiled_scan_ = 0;  // scan id + 1 of a telegram with a byte lost or garbled
+  std::deque<IntactScan> intact_;
 };
 
 }  // namespace mostar::sim

@@ -87,15 +87,22 @@ TEST(Lms200EmulatorTest, SwitchesBaudAfterReplyAtOldRate) {
   EXPECT_EQ(Harness::Frames(h.Run(milliseconds(100), 38400)).size(), 1u);
 }
 
-TEST(Lms200EmulatorTest, StreamsAsFastAsTheLineAllows) {
+// Frames a 180 x 1 deg scanner at `baud` sends in 2 s of continuous output; `scans` counts them.
+std::vector<laser::Lms200Frame> StreamFor2s(int baud, size_t* scans) {
   Lms200EmulatorOptions options;
-  options.initial_baud = 38400;
+  options.initial_baud = baud;
   options.variant = {180, 100};
   Harness h(options);
-  h.Send(laser::StartContinuousRequest(), 38400);
-  const auto frames = Harness::Frames(h.Run(std::chrono::seconds(2), 38400));
+  h.Send(laser::StartContinuousRequest(), baud);
+  const auto frames = Harness::Frames(h.Run(std::chrono::seconds(2), baud));
+  *scans = 0;
+  for (const auto& f : frames) *scans += f.command() == laser::kReplyScan;
+  return frames;
+}
+
+TEST(Lms200EmulatorTest, StreamsAsFastAsTheLineAllows) {
   size_t scans = 0;
-  for (const auto& f : frames) scans += f.command() == laser::kReplyScan;
+  const auto frames = StreamFor2s(38400, &scans);
   // 372 bytes take 96.9 ms; the next free mirror turn is the 8th: 106.6 ms per scan.
   EXPECT_NEAR(static_cast<double>(scans), 2.0 / 0.10656, 1.0);
   laser::Lms200MeasuredValues values;
@@ -105,6 +112,36 @@ TEST(Lms200EmulatorTest, StreamsAsFastAsTheLineAllows) {
   EXPECT_EQ(values.unit, laser::Lms200Unit::kMm);
   EXPECT_EQ(values.words[90], 5000);  // wall 5 m ahead
   EXPECT_EQ(values.words[0], 3000);   // wall 3 m to the right
+}
+
+TEST(Lms200EmulatorTest, StreamsEveryMirrorTurnAt500kBd) {
+  size_t scans = 0;
+  StreamFor2s(500000, &scans);
+  // 372 bytes take 7.44 ms, less than a mirror turn (13.32 ms): one scan per turn, 75 Hz
+  // (150.2 turns in 2 s; the first turn's phase and the telegram in flight at the end).
+  EXPECT_NEAR(static_cast<double>(scans), 2.0 / laser::kLms200MirrorPeriodS, 2.0);
+}
+
+TEST(Lms200EmulatorTest, LogsOnlyScansThatLeftIntactAtTheHostsRate) {
+  Lms200EmulatorOptions options;
+  options.initial_baud = 500000;
+  options.variant = {180, 100};
+  Harness h(options);
+  h.Send(laser::StartContinuousRequest(), 500000);
+  h.Run(milliseconds(5), 500000);  // the ACK and A0 leave
+  h.emulator.CorruptNextTelegrams(2);
+  auto frames = Harness::Frames(h.Run(milliseconds(500), 500000));
+  h.Run(milliseconds(100), 38400);  // the host at another rate: garbage
+  const auto more = Harness::Frames(h.Run(milliseconds(500), 500000));
+  frames.insert(frames.end(), more.begin(), more.end());
+  size_t valid_scans = 0;
+  for (const auto& f : frames) valid_scans += f.command() == laser::kReplyScan;
+  const auto intact = h.emulator.IntactScans();
+  EXPECT_EQ(intact.size(), valid_scans);
+  ASSERT_GE(intact.size(), 60u);
+  EXPECT_EQ(intact.front().id, 2u);  // 0 and 1 left with a bad CRC
+  EXPECT_EQ(intact.front().stream_starts, 1u);
+  EXPECT_EQ(h.emulator.scans_sent(), intact.size() + 2 + 8);  // 7-8 turns in 100 ms garbled
 }
 
 TEST(Lms200EmulatorTest, EncodesNoEchoBeyondRangeErrorsAndForcedCodes) {

@@ -5,32 +5,16 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
 
-namespace mostar::sim {
+#include "robot_server/serial/baud_rate.h"
 
-int BaudOfSpeed(unsigned int speed) {
-  switch (speed) {
-    case B9600:
-      return 9600;
-    case B19200:
-      return 19200;
-    case B38400:
-      return 38400;
-    case B57600:
-      return 57600;
-    case B115200:
-      return 115200;
-    case B500000:
-      return 500000;
-    default:
-      return 0;
-  }
-}
+namespace mostar::sim {
 
 Lms200PtyRunner::Lms200PtyRunner(Lms200Emulator* emulator, std::string link_path)
     : emulator_(emulator), link_path_(std::move(link_path)) {}
@@ -128,6 +112,10 @@ bool Lms200PtyRunner::Replug(std::string* error) {
 
 void Lms200PtyRunner::Run() {
   std::vector<uint8_t> out;
+  // Device bytes the pty did not take yet. A pty buffers only about 12 KB (240 ms at 500 kBd);
+  // a serial port's receive buffer in the kernel holds 64 KB, so the rest waits here.
+  std::vector<uint8_t> backlog;
+  int backlog_fd = -1;
   uint8_t buffer[4096];
   while (!stop_.load()) {
     int fd;
@@ -145,9 +133,10 @@ void Lms200PtyRunner::Run() {
     pollfd pfd{fd, POLLIN, 0};
     ::poll(&pfd, 1, 1);
     std::lock_guard<std::mutex> lock(mutex_);
-    if (master_fd_ != fd) continue;  // replugged meanwhile
-    termios tio{};
-    const int host_baud = tcgetattr(fd, &tio) == 0 ? BaudOfSpeed(cfgetospeed(&tio)) : 0;
+    if (master_fd_ != fd) continue;         // replugged meanwhile
+    if (backlog_fd != fd) backlog.clear();  // what was buffered went with the old device
+    backlog_fd = fd;
+    const int host_baud = std::max(0, serial::LineBaud(fd));
     if ((pfd.revents & POLLIN) != 0) {
       const ssize_t n = ::read(fd, buffer, sizeof(buffer));
       if (n > 0) {
@@ -157,12 +146,18 @@ void Lms200PtyRunner::Run() {
     }
     out.clear();
     emulator_->Transmit(std::chrono::steady_clock::now(), host_baud, &out);
+    // Beyond the kernel's buffer the host is not reading: new bytes are lost (an overrun).
+    const size_t room = kHostBufferBytes - std::min(kHostBufferBytes, backlog.size());
+    if (out.size() > room) bytes_overrun_ += out.size() - room;
+    backlog.insert(backlog.end(), out.begin(),
+                   out.begin() + static_cast<std::ptrdiff_t>(std::min(room, out.size())));
     size_t written = 0;
-    while (written < out.size()) {
-      const ssize_t n = ::write(fd, out.data() + written, out.size() - written);
-      if (n <= 0) break;  // host not reading: the bytes are lost, like a UART overrun
+    while (written < backlog.size()) {
+      const ssize_t n = ::write(fd, backlog.data() + written, backlog.size() - written);
+      if (n <= 0) break;  // the pty is full: the rest waits
       written += static_cast<size_t>(n);
     }
+    backlog.erase(backlog.begin(), backlog.begin() + static_cast<std::ptrdiff_t>(written));
   }
 }
 

@@ -37,6 +37,11 @@ class Lms200PtyRunner {
   void Unplug();
   bool Replug(std::string* error);
 
+  // Device bytes lost while plugged in because the host did not read them: more than a
+  // serial port's kernel receive buffer (kHostBufferBytes) was waiting (a UART overrun).
+  uint64_t bytes_overrun() const { return bytes_overrun_.load(); }
+  static constexpr size_t kHostBufferBytes = 64 * 1024;
+
  private:
   bool OpenPtyLocked(std::string* error);
   void ClosePtyLocked();
@@ -49,10 +54,8 @@ class Lms200PtyRunner {
   int slave_keeper_fd_ = -1;  // keeps the slave open so the master never sees EIO
   std::string slave_path_;
   std::atomic<bool> stop_{false};
+  std::atomic<uint64_t> bytes_overrun_{0};
   std::thread thread_;
 };
-
-// Baud rate of a termios speed constant (B9600 -> 9600); 0 when unknown.
-int BaudOfSpeed(unsigned int speed);
 
 }  // namespace mostar::sim

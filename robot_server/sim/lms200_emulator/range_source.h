@@ -1,6 +1,8 @@
 // Where the LMS200 emulator gets its distances from.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -48,6 +50,26 @@ class FunctionRangeSource final : public RangeSource {
 
  private:
   Function f_;
+};
+
+// Numbers the scans it is asked for, so that loss tests and benches can tell which scan a
+// delivered one is: beam 0 of the n-th scan reads 0.5 m + (n mod kModulus) mm, the other beams
+// 3 m. The emulator calls it once per scan telegram: its n-th call is the emulator's scan id n.
+// Called on the emulator's thread only.
+class NumberedRangeSource final : public RangeSource {
+ public:
+  static constexpr uint64_t kModulus = 4096;
+  void Sample(SteadyTime, float, float, int count, std::vector<float>* ranges_m) override {
+    ranges_m->assign(static_cast<size_t>(count), 3.0f);
+    if (count > 0) (*ranges_m)[0] = 0.5f + static_cast<float>(next_++ % kModulus) * 0.001f;
+  }
+  // The number (mod kModulus) of a scan decoded in mm.
+  static uint64_t Number(const std::vector<float>& ranges_m) {
+    return static_cast<uint64_t>(std::llround((ranges_m.at(0) - 0.5) * 1000.0));
+  }
+
+ private:
+  uint64_t next_ = 0;
 };
 
 }  // namespace mostar::sim
