@@ -232,12 +232,19 @@ bool MakeSonarAndBumpers(const ServerConfig& config, const Clock* clock, RobotDe
                          std::string* error) {
   const ServerConfig::Source source = config.source();
   const BumperConfig& b = config.bumpers();
+  if (source == ServerConfig::TEST_PATTERN) {
+    if (config.sonar().sensors_size() > 0 || b.backend() != BumperConfig::NONE) {
+      MOSTAR_LOG(INFO) << "source TEST_PATTERN: no sonar belt and no bumpers (the sonar and "
+                          "bumpers sections are for SIM and HARDWARE)";
+    }
+    return true;
+  }
   if (b.backend() == BumperConfig::GPIOD && source != ServerConfig::HARDWARE) {
     *error = "bumpers.backend GPIOD needs source HARDWARE (use SIM with the simulator)";
     return false;
   }
   if (b.backend() == BumperConfig::SIM && source != ServerConfig::SIM) {
-    *error = "bumpers.backend SIM needs source SIM";
+    *error = "bumpers.backend SIM needs source SIM (GPIOD or NONE on the robot)";
     return false;
   }
   if (b.backend() == BumperConfig::GPIOD) {
@@ -262,25 +269,21 @@ bool MakeSonarAndBumpers(const ServerConfig& config, const Clock* clock, RobotDe
   if (source == ServerConfig::SIM) {
     devices->sim_sonar =
         sim::SimulatedSonar::Create(devices->world.get(), config.sonar(), {}, clock, error);
-  } else if (source == ServerConfig::HARDWARE) {
-    sonar::Srf08RingOptions options;
-    if (!sonar::Srf08RingOptionsFromConfig(config.sonar(), &options, error)) {
-      *error = "sonar: " + *error;
-      return false;
-    }
-    std::unique_ptr<sonar::LinuxI2cBus> bus = sonar::LinuxI2cBus::Open(config.sonar().bus(), error);
-    if (!bus) {
-      *error = "sonar.bus: " + *error;
-      return false;
-    }
-    devices->owned_sonar = std::make_unique<sonar::Srf08Ring>(std::move(bus), options, *clock);
-    return true;
-  } else {
-    *error = "sonar: no sonar belt with source TEST_PATTERN (remove the sensors)";
+    if (!devices->sim_sonar) *error = "sonar: " + *error;
+    return devices->sim_sonar != nullptr;
+  }
+  sonar::Srf08RingOptions options;
+  if (!sonar::Srf08RingOptionsFromConfig(config.sonar(), &options, error)) {
+    *error = "sonar: " + *error;
     return false;
   }
-  if (!devices->sim_sonar) *error = "sonar: " + *error;
-  return devices->sim_sonar != nullptr;
+  std::unique_ptr<sonar::LinuxI2cBus> bus = sonar::LinuxI2cBus::Open(config.sonar().bus(), error);
+  if (!bus) {
+    *error = "sonar.bus: " + *error;
+    return false;
+  }
+  devices->owned_sonar = std::make_unique<sonar::Srf08Ring>(std::move(bus), options, *clock);
+  return true;
 }
 
 bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error) {

@@ -51,8 +51,8 @@ bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error);
 
 // The sonar belt and the bumper belt of `config` for its source (SIM: simulated in
 // devices->world, which must exist; HARDWARE: SRF08s on Linux I2C, GPIO bumpers; TEST_PATTERN:
-// none). False with a message naming the key when the configuration does not fit the source or
-// a device cannot be opened.
+// none, whatever the sections say). False with a message naming the key when a bumper backend
+// does not fit the source or a device cannot be opened.
 bool MakeSonarAndBumpers(const ServerConfig& config, const Clock* clock, RobotDevices* devices,
                          std::string* error);
 
