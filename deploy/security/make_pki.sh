@@ -272,7 +272,8 @@ openssl smime -sign -text -in governance.xml -out governance.p7s \
   -signer permissions_ca.cert.pem -inkey permissions_ca.key.pem
 
 # --- permissions per participant ---
-sensors="rt/mostar/camera/* rt/mostar/scan rt/mostar/odom rt/mostar/health rt/mostar/control/lease"
+sensors="rt/mostar/camera/* rt/mostar/scan rt/mostar/odom rt/mostar/sonar rt/mostar/sonar/range
+rt/mostar/bumpers rt/mostar/health rt/mostar/control/lease"
 topics_xml() { for t in "$@"; do printf '            <topic>%s</topic>\n' "$t"; done; }
 make_permissions() {  # name, "publish topics", "subscribe topics"
   local subject not_before not_after
