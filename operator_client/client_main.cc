@@ -190,8 +190,14 @@ int Run(int argc, char** argv) {
     if (rec) rec->Write(o);
     robot.SetOdometry(o);
   };
-  callbacks.on_sonar = [&](const SonarRanges& sonar) { robot.SetSonar(sonar); };
-  callbacks.on_bumpers = [&](const BumperState& bumpers) { robot.SetBumpers(bumpers); };
+  callbacks.on_sonar = [&](const SonarRanges& sonar) {
+    if (rec) rec->Write(sonar);
+    robot.SetSonar(sonar);
+  };
+  callbacks.on_bumpers = [&](const BumperState& bumpers) {
+    if (rec) rec->Write(bumpers);
+    robot.SetBumpers(bumpers);
+  };
   callbacks.on_frame_timing = [&](const FrameTiming& timing) { robot.AddFrameTiming(timing); };
   callbacks.on_camera_info = [&](Eye eye, const CameraIntrinsicsInfo& info) {
     robot.SetIntrinsics(eye, info);

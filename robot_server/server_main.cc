@@ -32,47 +32,6 @@
 namespace mostar::server {
 namespace {
 
-void AddFlags(CLI::App* app, ServerFlags* f) {
-  app->add_option("--record", f->record_path,
-                  "record everything published (and accepted commands)");
-  auto* replay =
-      app->add_option("--replay", f->replay_path, "publish this recording instead of live devices")
-          ->check(CLI::ExistingFile);
-  app->add_option("--replay-sensors", f->replay_sensors,
-                  "camera and laser from this recording (with --replay-rate, --loop), motors "
-                  "and odometry from the source: the live pipeline on recorded data")
-      ->check(CLI::ExistingFile)
-      ->excludes(replay);
-  app->add_option("--replay-rate", f->replay_rate, "replay speed factor")
-      ->check(CLI::PositiveNumber);
-  app->add_flag("--loop", f->replay_loop, "replay (--replay, --replay-sensors) in a loop");
-  app->add_flag("--replay-paused", f->replay_paused,
-                "start the replay paused; control it on stdin: p pause/resume, s [N] step, "
-                "r RATE, q quit");
-  app->add_option("-c,--config", f->config_path, "server configuration (protobuf text format)")
-      ->check(CLI::ExistingFile);
-  app->add_option("--domain", f->domain, "DDS domain id (default: config, then MOSTAR_DDS_DOMAIN)")
-      ->check(CLI::Range(0, 232));
-  app->add_option("--dds-profile", f->dds_profile, "'loopback' or a Fast DDS XML profiles file");
-  app->add_option("--source", f->source, "test_pattern | sim | hardware (overrides the config)")
-      ->check(CLI::IsMember({"test_pattern", "sim", "hardware"}));
-  app->add_option("--sim", f->scene, "run the simulated robot in this scene (implies --source sim)")
-      ->check(CLI::ExistingFile);
-  app->add_option("--duration", f->duration_s,
-                  "stop after this many seconds (0 = run until signal)")
-      ->check(CLI::NonNegativeNumber);
-  app->add_option("--log-level", f->log_level, "debug | info | warning | error")
-      ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
-  app->add_option("--trace", f->trace_path,
-                  "write published stamps and accepted commands to this CSV");
-  app->add_flag("--insecure", f->insecure,
-                "allow a network DDS profile without DDS Security (anyone on the network can "
-                "read and command the robot; docs/security.md)");
-  app->add_option("--state-dir", f->state_dir,
-                  "keep the e-stop latch in this directory (default: state_dir of the config, "
-                  "/var/lib/mostar for the hardware source)");
-}
-
 int Fail(int status, const std::string& message) {
   std::cerr << "robot_server: " << message << "\n";
   return status;
@@ -83,7 +42,7 @@ int Run(int argc, char** argv) {
       "robot_server: publishes the robot's stereo frames, laser scans, odometry and "
       "health over DDS and drives it from one pilot's velocity commands."};
   ServerFlags flags;
-  AddFlags(&app, &flags);
+  AddServerFlags(&app, &flags);
   CLI11_PARSE(app, argc, argv);
   LogLevel level;
   ParseLogLevel(flags.log_level, &level);
@@ -196,6 +155,8 @@ int Run(int argc, char** argv) {
   RobotControllerDevices controlled;
   controlled.motors = devices.motors();
   controlled.laser = devices.laser();
+  controlled.sonar = devices.sonar();
+  controlled.bumpers = devices.bumpers.get();
   controlled.camera_health = [&pipeline] { return pipeline.Health(); };
   controlled.estop_latch = estop_latch.get();
   RobotController controller(ControllerOptionsFrom(config, settings, devices.intrinsics),

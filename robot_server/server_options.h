@@ -8,6 +8,10 @@
 #include "robot_server/drive/drive_config.h"
 #include "robot_server/server_config.pb.h"
 
+namespace CLI {
+class App;
+}
+
 namespace mostar::server {
 
 struct ServerFlags {
@@ -28,6 +32,9 @@ struct ServerFlags {
   std::string state_dir;  // --state-dir: overrides state_dir
   bool insecure = false;  // --insecure: sets dds.insecure
 };
+
+// robot_server's command-line flags into `flags`.
+void AddServerFlags(CLI::App* app, ServerFlags* flags);
 
 // The flags' overrides: --source, --sim (implies SIM), --replay-sensors (camera and laser
 // replay of one file at --replay-rate, --loop), --state-dir, --insecure (dds.insecure; the flag

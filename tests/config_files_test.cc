@@ -21,6 +21,7 @@
 #include "robot_server/server_config.pb.h"
 #include "robot_server/sim/scene.h"
 #include "robot_server/sim/sim_world.h"
+#include "robot_server/sonar/sonar_config.h"
 
 namespace mostar {
 namespace {
@@ -52,7 +53,17 @@ bool LoadShippedConfig(const std::string& name, const std::string& path, std::st
     drive::DriveSettings settings;
     if (!drive::DriveSettingsFromProto(c.drive(), &settings, error)) return false;
     if (!laser::ValidateLms200Config(c.laser(), error)) return false;
+    sonar::Srf08RingOptions sonar;
+    if (c.sonar().sensors_size() > 0 &&
+        !sonar::Srf08RingOptionsFromConfig(c.sonar(), &sonar, error)) {
+      return false;
+    }
     return sim::ValidateSimConfig(c.sim(), path, error);
+  }
+  if (StartsWith(name, "sonar_")) {
+    sonar::SonarConfig c;
+    sonar::Srf08RingOptions options;
+    return LoadTextConfig(path, &c, error) && sonar::Srf08RingOptionsFromConfig(c, &options, error);
   }
   if (StartsWith(name, "calibration_")) {
     math::LaserCameraCalibration c;

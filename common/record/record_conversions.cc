@@ -1,5 +1,6 @@
 #include "common/record/record_conversions.h"
 
+#include <algorithm>
 #include <type_traits>
 
 namespace mostar::record {
@@ -198,6 +199,59 @@ RobotHealth FromProtoHealth(const proto::RobotHealth& in) {
   return out;
 }
 
+void ToProtoSonar(const SonarRanges& in, proto::SonarRanges* out) {
+  out->set_cycle(in.cycle);
+  for (const SonarRange& r : in.ranges) {
+    proto::SonarRange* o = out->add_ranges();
+    o->set_frame_id(r.mount.frame_id);
+    o->set_x_m(r.mount.x_m);
+    o->set_y_m(r.mount.y_m);
+    o->set_yaw_rad(r.mount.yaw_rad);
+    o->set_stamp_unix_ns(Ns(r.stamp));
+    o->set_range_m(r.range_m);
+    o->set_min_range_m(r.min_range_m);
+    o->set_max_range_m(r.max_range_m);
+    o->set_field_of_view_rad(r.field_of_view_rad);
+  }
+}
+
+SonarRanges FromProtoSonar(const proto::SonarRanges& in) {
+  SonarRanges out;
+  out.cycle = in.cycle();
+  for (const proto::SonarRange& r : in.ranges()) {
+    SonarRange o;
+    o.mount.frame_id = r.frame_id();
+    o.mount.x_m = r.x_m();
+    o.mount.y_m = r.y_m();
+    o.mount.yaw_rad = r.yaw_rad();
+    o.stamp = At(r.stamp_unix_ns());
+    o.range_m = r.range_m();
+    o.min_range_m = r.min_range_m();
+    o.max_range_m = r.max_range_m();
+    o.field_of_view_rad = r.field_of_view_rad();
+    out.ranges.push_back(std::move(o));
+  }
+  return out;
+}
+
+void ToProtoBumpers(const BumperState& in, proto::BumperState* out) {
+  out->set_stamp_unix_ns(Ns(in.stamp));
+  out->set_segment_count(in.segment_count);
+  out->set_pressed(in.pressed);
+  out->set_latched(in.latched);
+  out->set_readable(in.readable);
+}
+
+BumperState FromProtoBumpers(const proto::BumperState& in) {
+  BumperState out;
+  out.stamp = At(in.stamp_unix_ns());
+  out.segment_count = std::clamp(in.segment_count(), 0, 32);  // as on the wire
+  out.pressed = in.pressed();
+  out.latched = in.latched();
+  out.readable = in.readable();
+  return out;
+}
+
 }  // namespace
 
 void ToProto(const RecordingInfo& info, proto::Header* header) {
@@ -267,6 +321,10 @@ void ToProto(const RecordedMessage& message, proto::Record* record) {
           ToProtoLease(payload, record->mutable_control_lease());
         } else if constexpr (std::is_same_v<T, RobotHealth>) {
           ToProtoHealth(payload, record->mutable_health());
+        } else if constexpr (std::is_same_v<T, SonarRanges>) {
+          ToProtoSonar(payload, record->mutable_sonar());
+        } else if constexpr (std::is_same_v<T, BumperState>) {
+          ToProtoBumpers(payload, record->mutable_bumpers());
         } else {
           static_assert(AlwaysFalse<T>::value, "unhandled record payload");
         }
@@ -300,6 +358,12 @@ FromProtoResult FromProto(const proto::Record& record, RecordedMessage* message)
       break;
     case proto::Record::kHealth:
       payload = FromProtoHealth(record.health());
+      break;
+    case proto::Record::kSonar:
+      payload = FromProtoSonar(record.sonar());
+      break;
+    case proto::Record::kBumpers:
+      payload = FromProtoBumpers(record.bumpers());
       break;
     case proto::Record::kIndex:
       return FromProtoResult::kIndex;

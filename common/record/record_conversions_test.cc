@@ -140,13 +140,28 @@ TEST(RecordConversionsTest, HeaderRoundTrips) {
   EXPECT_EQ(back.sensors.camera_format, "jpeg");
 }
 
+TEST(RecordConversionsTest, SonarKeepsNoEchoAndFailedReadingsBitForBit) {
+  const SonarRanges sonar = testing::MakeSonar(T0());
+  proto::Record record;
+  ToProto(testing::At(T0(), sonar), &record);
+  RecordedMessage back;
+  ASSERT_EQ(FromProto(record, &back), FromProtoResult::kOk);
+  const SonarRanges& got = std::get<SonarRanges>(back.payload);
+  ASSERT_EQ(got.ranges.size(), 3u);
+  EXPECT_EQ(got.ranges[0].range_m, 1.25f);
+  EXPECT_TRUE(std::isinf(got.ranges[1].range_m));
+  EXPECT_TRUE(std::isnan(got.ranges[2].range_m));
+  EXPECT_EQ(got.ranges[2].mount.frame_id, "sonar_2");
+  EXPECT_EQ(got.ranges[1].stamp, T0() + std::chrono::milliseconds(65));
+}
+
 TEST(RecordConversionsTest, TopicNamesFollowTheDdsTopics) {
   const std::vector<RecordedMessage> messages = OneOfEach(T0(), std::chrono::milliseconds(10));
   std::vector<std::string> names;
   for (const RecordedMessage& m : messages) names.push_back(TopicName(m));
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"camera/left", "camera/right", "scan", "odom", "cmd_vel",
-                                      "estop", "control/request", "control/lease", "health"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"camera/left", "camera/right", "scan", "odom",
+                                             "cmd_vel", "estop", "control/request", "control/lease",
+                                             "health", "sonar", "bumpers"}));
 }
 
 }  // namespace

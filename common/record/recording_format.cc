@@ -72,6 +72,10 @@ std::string TopicName(const RecordedMessage& message) {
       return "control/lease";
     case RecordKind::kHealth:
       return "health";
+    case RecordKind::kSonar:
+      return "sonar";
+    case RecordKind::kBumpers:
+      return "bumpers";
   }
   return "?";
 }

@@ -18,10 +18,12 @@
 #include <vector>
 
 #include "common/time/time.h"
+#include "common/types/bumper.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
 
 namespace mostar::record {
@@ -88,11 +90,14 @@ enum class RecordKind : uint8_t {
   kControlRequest = 5,
   kControlLease = 6,
   kHealth = 7,
+  kSonar = 8,
+  kBumpers = 9,
 };
-inline constexpr size_t kRecordKindCount = 8;
+inline constexpr size_t kRecordKindCount = 10;
 
-using RecordPayload = std::variant<RecordedImage, LaserScan, Odometry, VelocityCommand,
-                                   EmergencyStop, ControlRequest, ControlLease, RobotHealth>;
+using RecordPayload =
+    std::variant<RecordedImage, LaserScan, Odometry, VelocityCommand, EmergencyStop, ControlRequest,
+                 ControlLease, RobotHealth, SonarRanges, BumperState>;
 
 // One data record. `offset` and `size_bytes` are set by the reader (ignored by the writer).
 struct RecordedMessage {
@@ -106,7 +111,7 @@ struct RecordedMessage {
 
 // Topic of a record, as the ROS topic name without the "mostar/" prefix: "camera/left",
 // "camera/right", "scan", "odom", "cmd_vel", "estop", "control/request", "control/lease",
-// "health".
+// "health", "sonar", "bumpers".
 std::string TopicName(const RecordedMessage& message);
 
 // Where and why a file stops being readable.

@@ -128,6 +128,8 @@ bool RecordingWriter::Write(const ControlRequest& request) {
   return Write(Stamped(clock_, request));
 }
 bool RecordingWriter::Write(const ControlLease& lease) { return Write(Stamped(clock_, lease)); }
+bool RecordingWriter::Write(const SonarRanges& ranges) { return Write(Stamped(clock_, ranges)); }
+bool RecordingWriter::Write(const BumperState& state) { return Write(Stamped(clock_, state)); }
 bool RecordingWriter::Write(const RobotHealth& health) { return Write(Stamped(clock_, health)); }
 
 bool RecordingWriter::Write(const RecordedMessage& message) {

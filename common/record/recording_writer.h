@@ -92,6 +92,8 @@ class RecordingWriter {
   bool Write(const ControlRequest& request);
   bool Write(const ControlLease& lease);
   bool Write(const RobotHealth& health);
+  bool Write(const SonarRanges& ranges);
+  bool Write(const BumperState& state);
   // Records larger than kMaxRecordBytes serialized are dropped and counted.
   // Queues a record with its own log time (re-recording, filtering, tests). Log times should be
   // non-decreasing in write order for SeekToTime to be exact.

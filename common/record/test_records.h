@@ -118,6 +118,34 @@ inline ControlRequest MakeRequest(Time stamp) {
   return request;
 }
 
+inline SonarRanges MakeSonar(Time stamp) {
+  SonarRanges sonar;
+  sonar.cycle = 41;
+  const float ranges[3] = {1.25f, std::numeric_limits<float>::infinity(),
+                           std::numeric_limits<float>::quiet_NaN()};
+  for (int i = 0; i < 3; ++i) {
+    SonarRange r;
+    r.mount = SonarMount{"sonar_" + std::to_string(i), 0.3 - 0.1 * i, 0.05 * i, 0.785 * i};
+    r.stamp = stamp + std::chrono::milliseconds(65 * i);
+    r.range_m = ranges[i];
+    r.min_range_m = 0.03f;
+    r.max_range_m = 6.0f;
+    r.field_of_view_rad = 0.96f;
+    sonar.ranges.push_back(r);
+  }
+  return sonar;
+}
+
+inline BumperState MakeBumpers(Time stamp) {
+  BumperState bumpers;
+  bumpers.stamp = stamp;
+  bumpers.segment_count = 16;
+  bumpers.pressed = 0x8001;
+  bumpers.latched = 0x0001;
+  bumpers.readable = true;
+  return bumpers;
+}
+
 inline RecordedMessage At(Time log_time, RecordPayload payload) {
   RecordedMessage message;
   message.log_time = log_time;
@@ -144,6 +172,8 @@ inline std::vector<RecordedMessage> OneOfEach(Time start, Duration step) {
   out.push_back(At(next(), MakeRequest(s)));
   out.push_back(At(next(), MakeLease(s)));
   out.push_back(At(next(), MakeHealth(s)));
+  out.push_back(At(next(), MakeSonar(s)));
+  out.push_back(At(next(), MakeBumpers(s)));
   return out;
 }
 

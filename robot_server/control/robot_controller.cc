@@ -9,6 +9,20 @@
 #include "common/record/recording_writer.h"
 
 namespace mostar::server {
+namespace {
+
+// A fitted sonar belt is expected to deliver fresh cycles.
+drive::SafetyOptions WithSonar(drive::SafetyOptions options, bool fitted) {
+  options.sonar_expected = options.sonar_expected || fitted;
+  return options;
+}
+
+bool SameBumpers(const BumperState& a, const BumperState& b) {
+  return a.segment_count == b.segment_count && a.pressed == b.pressed && a.latched == b.latched &&
+         a.readable == b.readable;
+}
+
+}  // namespace
 
 bool RobotControllerOptions::IsValid(std::string* error) const {
   auto fail = [error](const std::string& message) {
@@ -17,6 +31,7 @@ bool RobotControllerOptions::IsValid(std::string* error) const {
   };
   if (health_period <= Duration::zero()) return fail("health_period must be positive");
   if (lease_period <= Duration::zero()) return fail("lease_period must be positive");
+  if (bumper_period <= Duration::zero()) return fail("bumper_period must be positive");
   if (holder_timeout <= Duration::zero()) return fail("holder_timeout must be positive");
   if (write_stall_limit < Duration::zero()) return fail("write_stall_limit must not be negative");
   if (intrinsics.size() > 2) return fail("at most two intrinsics (left, right)");
@@ -35,7 +50,7 @@ RobotController::RobotController(const RobotControllerOptions& options,
       clock_(clock),
       trace_(trace),
       lease_(*clock, options.roles, options.holder_timeout),
-      governor_(*clock, options.safety),
+      governor_(*clock, WithSonar(options.safety, devices_.sonar != nullptr)),
       odometry_(options.odometry) {
   std::string error;
   MOSTAR_CHECK(options_.IsValid(&error)) << error;
@@ -52,9 +67,14 @@ RobotController::RobotController(const RobotControllerOptions& options,
 RobotController::~RobotController() { Stop(); }
 
 bool RobotController::Start(std::string* error) {
-  if (devices_.laser == nullptr) return true;
-  if (!devices_.laser->Start([this](const LaserScan& scan) { OnScan(scan); }, error)) {
+  if (devices_.laser != nullptr &&
+      !devices_.laser->Start([this](const LaserScan& scan) { OnScan(scan); }, error)) {
     *error = "laser: " + *error;
+    return false;
+  }
+  if (devices_.sonar != nullptr &&
+      !devices_.sonar->Start([this](const SonarRanges& ranges) { OnSonar(ranges); }, error)) {
+    *error = "sonar: " + *error;
     return false;
   }
   return true;
@@ -64,6 +84,7 @@ void RobotController::Stop() {
   if (stopped_) return;
   stopped_ = true;
   if (devices_.laser != nullptr) devices_.laser->Stop();
+  if (devices_.sonar != nullptr) devices_.sonar->Stop();
   std::string error;
   if (!devices_.motors->Stop(&error)) MOSTAR_LOG(ERROR) << "motors: stop failed: " << error;
   if (devices_.estop_latch != nullptr) {
@@ -155,6 +176,54 @@ void RobotController::OnScan(const LaserScan& scan) {
   if (trace_) trace_->Add("scan", scan.stamp, scan.sequence);
 }
 
+void RobotController::OnSonar(const SonarRanges& ranges) {
+  governor_.SetSonarRanges(ranges);
+  link_->PublishSonar(ranges);
+  if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(ranges);
+}
+
+void RobotController::ReadBumpers(SteadyTime now) {
+  uint32_t pressed = 0;
+  std::string error;
+  const bool readable = devices_.bumpers->Read(&pressed, &error);
+  governor_.SetBumpers(pressed, devices_.bumpers->segments(), readable, error);
+  const drive::SafetyStatus status = governor_.status();
+  BumperState state;
+  state.stamp = clock_->Now();
+  state.segment_count = status.bumper_segments;
+  state.pressed = status.bumper_pressed;
+  state.latched = status.bumper_latched;
+  state.readable = status.bumper_readable;
+  const bool changed = !last_bumpers_ || !SameBumpers(*last_bumpers_, state);
+  if (!readable) {
+    MOSTAR_LOG_EVERY_SEC(ERROR, 5) << "bumpers unreadable (" << error << "): robot stopped";
+  }
+  const uint32_t new_latches = state.latched & ~(last_bumpers_ ? last_bumpers_->latched : 0u);
+  if (new_latches != 0) {
+    MOSTAR_LOG(WARNING) << "bumper contact on segment "
+                        << drive::BumperSegmentList(new_latches, state.segment_count)
+                        << ": robot stopped until the pilot re-arms";
+  }
+  if (!changed && next_bumpers_ && now < *next_bumpers_) return;
+  next_bumpers_ = now + options_.bumper_period;
+  last_bumpers_ = state;
+  link_->PublishBumpers(state);
+  if (record::RecordingWriter* recorder = recorder_.load()) recorder->Write(state);
+}
+
+DeviceHealth RobotController::BumperHealth() const {
+  DeviceHealth health = devices_.bumpers->Health();
+  const drive::SafetyStatus status = governor_.status();
+  if (status.bumper_latched != 0) {
+    if (health.state == DeviceState::kOk) health.state = DeviceState::kWarn;
+    health.message += std::string(health.message.empty() ? "" : "; ") + "contact on segment " +
+                      drive::BumperSegmentList(status.bumper_latched, status.bumper_segments) +
+                      ": robot stopped until the pilot re-arms";
+  }
+  health.counters.emplace_back("latched_mask", status.bumper_latched);
+  return health;
+}
+
 StepResult RobotController::Step(SteadyTime now) {
   // A holder that went silent loses the lease: nobody inherits motion.
   if (const std::optional<std::string> lost = lease_.ExpireSilentHolder(now)) {
@@ -169,6 +238,7 @@ StepResult RobotController::Step(SteadyTime now) {
     devices_.motors->Stop(&error);
     return StepResult::kWriteStalled;
   }
+  if (devices_.bumpers != nullptr) ReadBumpers(now);
   const drive::GovernorOutput out = governor_.Update();
   if (trace_) {
     trace_->Add("drive_out_mmps", clock_->Now(),
@@ -223,6 +293,8 @@ RobotHealth RobotController::AssembleHealth(SteadyTime now) {
   health.lease_holder = lease_.holder();
   if (devices_.camera_health) health.devices.push_back(devices_.camera_health());
   if (devices_.laser != nullptr) health.devices.push_back(devices_.laser->Health());
+  if (devices_.sonar != nullptr) health.devices.push_back(devices_.sonar->Health());
+  if (devices_.bumpers != nullptr) health.devices.push_back(BumperHealth());
   health.devices.push_back(governor_.Health());
   if (devices_.estop_latch != nullptr) health.devices.push_back(devices_.estop_latch->Health());
   DeviceHealth drive = devices_.motors->Health();

@@ -11,8 +11,10 @@
 
 #include "common/testing/subprocess.h"
 #include "common/time/fake_clock.h"
+#include "robot_server/bumper/fake_bumper_belt.h"
 #include "robot_server/drive/fake_drive_motors.h"
 #include "robot_server/node/fake_robot_link.h"
+#include "robot_server/sonar/fake_sonar_ring.h"
 
 namespace mostar::server {
 namespace {
@@ -119,6 +121,8 @@ class RobotControllerTest : public ::testing::Test {
       return camera;
     };
     devices.estop_latch = latch_.get();
+    devices.sonar = sonar_;
+    devices.bumpers = bumpers_;
     controller_.emplace(options_, devices, &link_, &clock_);
     std::string error;
     EXPECT_TRUE(controller_->Start(&error)) << error;
@@ -187,6 +191,8 @@ class RobotControllerTest : public ::testing::Test {
   drive::FakeDriveMotors motors_;
   FlakyMotors flaky_motors_;  // declared before controller_, which uses the motors until it ends
   FakeLaser laser_;
+  sonar::SonarRing* sonar_ = nullptr;      // set before Make() to fit a sonar belt
+  bumper::BumperBelt* bumpers_ = nullptr;  // set before Make() to fit a bumper belt
   FakeRobotLink link_;
   std::unique_ptr<drive::EstopLatchStore> latch_;  // outlives controller_
   std::optional<RobotController> controller_;
@@ -489,6 +495,110 @@ TEST_F(RobotControllerTest, StopStopsTheLaserAndBrakesOnce) {
   EXPECT_EQ(laser_.stops, 1);
   EXPECT_EQ(motors_.stops(), stops_before + 1);
   EXPECT_DOUBLE_EQ(motors_.wheels().left_mps, 0.0);
+}
+
+// The front sonar hears something 0.25 m ahead of the bumper line.
+SonarRanges CloseSonar(Time stamp) {
+  SonarRange r;
+  r.mount = SonarMount{"sonar_0", 0.2, 0, 0};
+  r.stamp = stamp;
+  r.range_m = 0.25f;
+  r.min_range_m = 0.03f;
+  r.max_range_m = 6.0f;
+  r.field_of_view_rad = 0.96f;
+  SonarRanges ranges;
+  ranges.cycle = 1;
+  ranges.ranges.push_back(r);
+  return ranges;
+}
+
+TEST_F(RobotControllerTest, SonarCyclesReachTheGovernorTheLinkAndHealth) {
+  sonar::FakeSonarRing ring;
+  sonar_ = &ring;
+  Make();
+  EXPECT_EQ(ring.starts, 1);
+  ring.Emit(CloseSonar(clock_.Now()));
+  ASSERT_EQ(link_.sonars.size(), 1u);
+  EXPECT_EQ(link_.sonars[0].ranges.size(), 1u);
+  EXPECT_EQ(controller_->governor().status().counters.sonar_cycles, 1u);
+  // The obstacle the laser does not see keeps the robot from driving forward.
+  AliceDrives(20);
+  EXPECT_EQ(motors_.wheels().left_mps, 0.0);
+  const RobotHealth health = LatestHealth();
+  std::vector<std::string> names;
+  for (const DeviceHealth& d : health.devices) names.push_back(d.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"camera", "laser", "sonar", "drive_safety", "drive",
+                                             "network"}));
+  controller_->Stop();
+  EXPECT_EQ(ring.stops, 1);
+}
+
+TEST_F(RobotControllerTest, ABumperContactStopsTheRobotAndLatchesUntilThePilotRearms) {
+  bumper::FakeBumperBelt belt(16);
+  bumpers_ = &belt;
+  Make();
+  AliceDrives(50);
+  ASSERT_NEAR(motors_.wheels().left_mps, 0.3, 1e-6);
+  ASSERT_FALSE(link_.bumpers.empty());
+  EXPECT_EQ(link_.bumpers.back().segment_count, 16);
+  EXPECT_EQ(link_.bumpers.back().latched, 0u);
+  belt.Press(1u << 15);  // front right
+  Run(1, [this] { Command("alice", 0.3, true); });
+  EXPECT_EQ(motors_.wheels().left_mps, 0.0) << "stopped in the cycle of the contact";
+  EXPECT_EQ(link_.bumpers.back().pressed, 1u << 15);
+  EXPECT_EQ(link_.bumpers.back().latched, 1u << 15);
+  belt.Press(0);
+  Run(25, [this] { Command("alice", 0.3, true); });
+  EXPECT_EQ(motors_.wheels().left_mps, 0.0) << "latched after the release";
+  EXPECT_EQ(link_.bumpers.back().pressed, 0u);
+  EXPECT_EQ(link_.bumpers.back().latched, 1u << 15);
+  ASSERT_FALSE(link_.healths.empty());
+  const RobotHealth health = link_.healths.back();  // of the last 500 ms
+  EXPECT_EQ(health.watchdog_state, WatchdogState::kWaitRearm);
+  const DeviceHealth* bumpers = Device(health, "bumpers");
+  ASSERT_NE(bumpers, nullptr);
+  EXPECT_EQ(bumpers->state, DeviceState::kWarn);
+  EXPECT_NE(bumpers->message.find("segment 15 (338 deg)"), std::string::npos) << bumpers->message;
+  EXPECT_EQ(Counter(*bumpers, "latched_mask"), 1u << 15);
+  const DeviceHealth* safety = Device(health, "drive_safety");
+  ASSERT_NE(safety, nullptr);
+  EXPECT_NE(safety->message.find("segment 15"), std::string::npos) << safety->message;
+  // The pilot re-arms: the latch clears and the robot drives.
+  Command("alice", 0, false);
+  Run(50, [this] { Command("alice", 0.3, true); });
+  EXPECT_NEAR(motors_.wheels().left_mps, 0.3, 1e-6);
+  EXPECT_EQ(link_.bumpers.back().latched, 0u);
+}
+
+TEST_F(RobotControllerTest, BumperStateIsPublishedOnChangeAndEveryPeriod) {
+  bumper::FakeBumperBelt belt(16);
+  bumpers_ = &belt;
+  Make();
+  Run(101);  // 0 .. 2 s: published at 0, 1 and 2 s
+  EXPECT_EQ(link_.bumpers.size(), 3u);
+  belt.Press(1u << 4);
+  Run(1);
+  ASSERT_EQ(link_.bumpers.size(), 4u) << "on change";
+  EXPECT_EQ(link_.bumpers.back().pressed, 1u << 4);
+  Run(1);
+  EXPECT_EQ(link_.bumpers.size(), 4u);
+}
+
+TEST_F(RobotControllerTest, AnUnreadableBumperBeltStopsTheRobot) {
+  bumper::FakeBumperBelt belt(16);
+  bumpers_ = &belt;
+  Make();
+  AliceDrives(50);
+  ASSERT_NEAR(motors_.wheels().left_mps, 0.3, 1e-6);
+  belt.Fail("gpiochip0: read failed");
+  Run(5, [this] { Command("alice", 0.3, true); });
+  EXPECT_EQ(motors_.wheels().left_mps, 0.0);
+  EXPECT_FALSE(link_.bumpers.back().readable);
+  const RobotHealth health = LatestHealth();
+  const DeviceHealth* bumpers = Device(health, "bumpers");
+  ASSERT_NE(bumpers, nullptr);
+  EXPECT_EQ(bumpers->state, DeviceState::kError);
+  EXPECT_EQ(health.watchdog_state, WatchdogState::kWaitRearm);
 }
 
 TEST(RobotControllerOptionsTest, NamesTheInvalidOption) {

@@ -7,6 +7,7 @@
 
 #include "common/config/config_paths.h"
 #include "common/log/log.h"
+#include "robot_server/bumper/gpiod_bumper_belt.h"
 #include "robot_server/camera/camera_factory.h"
 #include "robot_server/camera/camera_intrinsics.h"
 #include "robot_server/drive/serial_drive_motors.h"
@@ -15,6 +16,9 @@
 #include "robot_server/replay/replay_stereo_camera.h"
 #include "robot_server/replay/replay_timeline.h"
 #include "robot_server/sim/scene.h"
+#include "robot_server/sonar/linux_i2c_bus.h"
+#include "robot_server/sonar/sonar_config.h"
+#include "robot_server/sonar/srf08.h"
 
 namespace mostar::server {
 namespace {
@@ -219,6 +223,69 @@ drive::DriveMotors* RobotDevices::motors() const {
   return pattern_robot ? pattern_robot.get() : owned_motors.get();
 }
 
+sonar::SonarRing* RobotDevices::sonar() const {
+  if (owned_sonar) return owned_sonar.get();
+  return sim_sonar ? sim_sonar->ring() : nullptr;
+}
+
+bool MakeSonarAndBumpers(const ServerConfig& config, const Clock* clock, RobotDevices* devices,
+                         std::string* error) {
+  const ServerConfig::Source source = config.source();
+  const BumperConfig& b = config.bumpers();
+  if (source == ServerConfig::TEST_PATTERN) {
+    if (config.sonar().sensors_size() > 0 || b.backend() != BumperConfig::NONE) {
+      MOSTAR_LOG(INFO) << "source TEST_PATTERN: no sonar belt and no bumpers (the sonar and "
+                          "bumpers sections are for SIM and HARDWARE)";
+    }
+    return true;
+  }
+  if (b.backend() == BumperConfig::GPIOD && source != ServerConfig::HARDWARE) {
+    *error = "bumpers.backend GPIOD needs source HARDWARE (use SIM with the simulator)";
+    return false;
+  }
+  if (b.backend() == BumperConfig::SIM && source != ServerConfig::SIM) {
+    *error = "bumpers.backend SIM needs source SIM (GPIOD or NONE on the robot)";
+    return false;
+  }
+  if (b.backend() == BumperConfig::GPIOD) {
+    bumper::GpiodBumperOptions options;
+    options.chip = b.chip();
+    options.lines.assign(b.line().begin(), b.line().end());
+    options.active_low = b.active_low();
+    if (!options.IsValid(error)) {
+      *error = "bumpers: " + *error;
+      return false;
+    }
+    devices->bumpers = bumper::GpiodBumperBelt::Open(options, error);
+    if (!devices->bumpers) {
+      *error = "bumpers: " + *error;
+      return false;
+    }
+  } else if (b.backend() == BumperConfig::SIM) {
+    devices->bumpers =
+        std::make_unique<sim::SimBumperBelt>(devices->world.get(), b.segments(), clock);
+  }
+  if (config.sonar().sensors_size() == 0) return true;
+  if (source == ServerConfig::SIM) {
+    devices->sim_sonar =
+        sim::SimulatedSonar::Create(devices->world.get(), config.sonar(), {}, clock, error);
+    if (!devices->sim_sonar) *error = "sonar: " + *error;
+    return devices->sim_sonar != nullptr;
+  }
+  sonar::Srf08RingOptions options;
+  if (!sonar::Srf08RingOptionsFromConfig(config.sonar(), &options, error)) {
+    *error = "sonar: " + *error;
+    return false;
+  }
+  std::unique_ptr<sonar::LinuxI2cBus> bus = sonar::LinuxI2cBus::Open(config.sonar().bus(), error);
+  if (!bus) {
+    *error = "sonar.bus: " + *error;
+    return false;
+  }
+  devices->owned_sonar = std::make_unique<sonar::Srf08Ring>(std::move(bus), options, *clock);
+  return true;
+}
+
 bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error) {
   if (config.source() != ServerConfig::HARDWARE) return true;
   std::string replayed;
@@ -251,7 +318,8 @@ bool MakeRobotDevices(const ServerConfig& config, const std::string& config_dir,
       *error = "unknown source";
       return false;
   }
-  return made && MakeReplayDevices(config, config_dir, clock, devices, error);
+  return made && MakeSonarAndBumpers(config, clock, devices, error) &&
+         MakeReplayDevices(config, config_dir, clock, devices, error);
 }
 
 }  // namespace mostar::server

@@ -10,6 +10,7 @@
 
 #include "common/time/time.h"
 #include "common/types/stereo_frame.h"
+#include "robot_server/bumper/bumper_belt.h"
 #include "robot_server/camera/camera_pipeline.h"
 #include "robot_server/camera/stereo_camera.h"
 #include "robot_server/drive/drive_config.h"
@@ -18,6 +19,7 @@
 #include "robot_server/server_config.pb.h"
 #include "robot_server/sim/sim_world.h"
 #include "robot_server/sim_devices/sim_devices.h"
+#include "robot_server/sonar/sonar_ring.h"
 #include "robot_server/testpattern/test_pattern.h"
 
 namespace mostar::server {
@@ -30,6 +32,9 @@ struct RobotDevices {
   std::unique_ptr<sim::SimulatedLms200> sim_laser;             // SIM, unless replayed
   std::unique_ptr<laser::LaserScanner> owned_laser;            // others (pattern, serial, replay)
   std::unique_ptr<drive::DriveMotors> owned_motors;            // SIM and HARDWARE
+  std::unique_ptr<sim::SimulatedSonar> sim_sonar;              // SIM with sonar sensors
+  std::unique_ptr<sonar::SonarRing> owned_sonar;               // HARDWARE with sonar sensors
+  std::unique_ptr<bumper::BumperBelt> bumpers;                 // bumpers.backend not NONE
   std::unique_ptr<camera::StereoCamera> camera;                // moved into the camera pipeline
   camera::CameraPipelineOptions camera_options;
   // Intrinsics of each eye (left, right), published for the clients; empty when unknown.
@@ -37,11 +42,19 @@ struct RobotDevices {
 
   laser::LaserScanner* laser() const;  // null when there is none
   drive::DriveMotors* motors() const;
+  sonar::SonarRing* sonar() const;  // null when there is none
 };
 
 // Refuses sensor replay with the HARDWARE source: recorded (re-stamped) scans or images would
 // steer the real motors. False with a message naming the keys and the alternatives.
 bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error);
+
+// The sonar belt and the bumper belt of `config` for its source (SIM: simulated in
+// devices->world, which must exist; HARDWARE: SRF08s on Linux I2C, GPIO bumpers; TEST_PATTERN:
+// none, whatever the sections say). False with a message naming the key when a bumper backend
+// does not fit the source or a device cannot be opened.
+bool MakeSonarAndBumpers(const ServerConfig& config, const Clock* clock, RobotDevices* devices,
+                         std::string* error);
 
 // Builds the devices of `config` (refused first by CheckReplayIsNotOnHardware). Files named in
 // the configuration are relative to `config_dir`. The source may adjust the odometry geometry

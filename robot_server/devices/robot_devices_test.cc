@@ -8,6 +8,7 @@
 
 #include "common/time/fake_clock.h"
 #include "robot_server/server_options.h"
+#include "robot_server/sim/sim_test_helpers.h"
 
 namespace mostar::server {
 namespace {
@@ -85,6 +86,67 @@ TEST(RobotDevicesTest, SensorReplayIsRefusedWithTheHardwareSource) {
   ServerConfig hardware;
   hardware.set_source(ServerConfig::HARDWARE);
   EXPECT_TRUE(CheckReplayIsNotOnHardware(hardware, &error)) << error;
+}
+
+TEST(RobotDevicesTest, SonarAndBumpersMustFitTheSourceAndNameTheKey) {
+  const Clock* clock = &SystemClock::Instance();
+  std::string error;
+  ServerConfig config;
+  config.set_source(ServerConfig::SIM);
+  config.mutable_bumpers()->set_backend(BumperConfig::GPIOD);
+  RobotDevices devices;
+  EXPECT_FALSE(MakeSonarAndBumpers(config, clock, &devices, &error));
+  EXPECT_NE(error.find("bumpers.backend GPIOD needs source HARDWARE"), std::string::npos) << error;
+  config.set_source(ServerConfig::HARDWARE);
+  config.mutable_bumpers()->set_backend(BumperConfig::SIM);
+  EXPECT_FALSE(MakeSonarAndBumpers(config, clock, &devices, &error));
+  EXPECT_NE(error.find("bumpers.backend SIM needs source SIM"), std::string::npos) << error;
+  // Hardware that is not there: the chip and the I2C adapter are named.
+  config.mutable_bumpers()->set_backend(BumperConfig::GPIOD);
+  config.mutable_bumpers()->set_chip("/dev/no-such-gpiochip");
+  config.mutable_bumpers()->add_line(3);
+  EXPECT_FALSE(MakeSonarAndBumpers(config, clock, &devices, &error));
+  EXPECT_EQ(error.rfind("bumpers: ", 0), 0u) << error;
+  EXPECT_NE(error.find("/dev/no-such-gpiochip"), std::string::npos) << error;
+  config.mutable_bumpers()->set_backend(BumperConfig::NONE);
+  auto* sensor = config.mutable_sonar()->add_sensors();
+  sensor->set_address(0x70);
+  config.mutable_sonar()->set_bus("/dev/no-such-i2c");
+  EXPECT_FALSE(MakeSonarAndBumpers(config, clock, &devices, &error));
+  EXPECT_EQ(error.rfind("sonar.bus: ", 0), 0u) << error;
+  // The test pattern has neither, whatever the sections say (a SIM configuration run with
+  // --source test_pattern).
+  config.set_source(ServerConfig::TEST_PATTERN);
+  config.mutable_bumpers()->set_backend(BumperConfig::SIM);
+  EXPECT_TRUE(MakeSonarAndBumpers(config, clock, &devices, &error)) << error;
+  EXPECT_EQ(devices.sonar(), nullptr);
+  EXPECT_EQ(devices.bumpers, nullptr);
+}
+
+TEST(RobotDevicesTest, TheSimulatorHasTheConfiguredSonarAndBumpers) {
+  const Clock* clock = &SystemClock::Instance();
+  std::string error;
+  RobotDevices devices;
+  devices.world = sim::SimWorld::Create(sim::testing::OpenFloor(""), sim::proto::SimConfig(),
+                                        clock->Now(), &error);
+  ASSERT_NE(devices.world, nullptr) << error;
+  ServerConfig config;
+  config.set_source(ServerConfig::SIM);
+  config.mutable_bumpers()->set_backend(BumperConfig::SIM);
+  config.mutable_bumpers()->set_segments(12);
+  auto* sensor = config.mutable_sonar()->add_sensors();
+  sensor->set_address(0x70);
+  ASSERT_TRUE(MakeSonarAndBumpers(config, clock, &devices, &error)) << error;
+  ASSERT_NE(devices.bumpers, nullptr);
+  EXPECT_EQ(devices.bumpers->segments(), 12);
+  ASSERT_NE(devices.sonar(), nullptr);
+  EXPECT_EQ(devices.sonar()->Health().name, "sonar");
+  // Without sensors and with backend NONE: neither.
+  RobotDevices none;
+  none.world = std::move(devices.world);
+  EXPECT_TRUE(MakeSonarAndBumpers(ServerConfig(), clock, &none, &error)) << error;
+  EXPECT_EQ(none.sonar(), nullptr);
+  EXPECT_EQ(none.bumpers, nullptr);
 }
 
 TEST(TestPatternLaserTest, ScansAtItsRateUntilStoppedAndStartsOnce) {

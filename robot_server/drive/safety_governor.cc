@@ -26,7 +26,27 @@ double RampStep(double current, double target, double accel, double decel, doubl
 
 bool Positive(double v) { return std::isfinite(v) && v > 0; }
 
+// Rays of unknown space across the cone of a failed sonar.
+constexpr int kFailedSonarRays = 5;
+// A pressed segment whose centre is within this many degrees of the side (90 deg) blocks
+// neither direction of linear motion.
+constexpr double kSideSegmentCos = 0.2;
+
+double SegmentAngle(int i, int segments) { return 2 * M_PI * i / segments; }
+
 }  // namespace
+
+std::string BumperSegmentList(uint32_t mask, int segments) {
+  std::ostringstream out;
+  bool first = true;
+  for (int i = 0; i < 32; ++i) {
+    if (!(mask & (1u << i))) continue;
+    out << (first ? "" : ", ") << i;
+    if (segments > 0) out << " (" << std::lround(360.0 * i / segments) << " deg)";
+    first = false;
+  }
+  return out.str();
+}
 
 bool SafetyOptions::IsValid(std::string* error) const {
   const std::pair<const char*, double> positives[] = {
@@ -60,6 +80,10 @@ bool SafetyOptions::IsValid(std::string* error) const {
   }
   if (!(slow_distance_m > stop_distance_m)) {
     *error = "slow_distance_m must be greater than stop_distance_m";
+    return false;
+  }
+  if (sonar_max_age <= Duration::zero() || !Positive(sonar_arc_step_m)) {
+    *error = "sonar_max_age and sonar_arc_step_m must be positive";
     return false;
   }
   if (!(unknown_scan_speed_factor >= 0 && unknown_scan_speed_factor <= 1)) {
@@ -98,7 +122,12 @@ std::vector<std::pair<std::string, uint64_t>> SafetyCounters::AsList() const {
           {"sender_restarts", sender_restarts},
           {"scans", scans},
           {"unknown_beams", unknown_beams},
-          {"unknown_path_cycles", unknown_path_cycles}};
+          {"unknown_path_cycles", unknown_path_cycles},
+          {"sonar_cycles", sonar_cycles},
+          {"sonar_failed_readings", sonar_failed_readings},
+          {"sonar_stale_cycles", sonar_stale_cycles},
+          {"bumper_contacts", bumper_contacts},
+          {"bumper_read_failures", bumper_read_failures}};
 }
 
 SafetyGovernor::SafetyGovernor(const Clock& clock, const SafetyOptions& options)
@@ -187,9 +216,10 @@ CommandVerdict SafetyGovernor::HandleCommand(const VelocityCommand& command,
     ready_to_arm_ = true;
     return CommandVerdict::kAccepted;
   }
-  if (!armed_ && ready_to_arm_ && !estop_) {
+  if (!armed_ && ready_to_arm_ && !estop_ && bumper_readable_) {
     armed_ = true;
     rearm_required_ = false;
+    bumper_latched_ = 0;  // the pilot's re-arm releases the bumper latch
   }
   if (armed_) {
     target_linear_mps_ =
@@ -265,6 +295,73 @@ void SafetyGovernor::SetLaserScan(const LaserScan& scan) {
   counters_.unknown_beams += unknown_beams_.size();
 }
 
+void SafetyGovernor::SetSonarRanges(const SonarRanges& ranges) {
+  std::vector<Point> points;
+  std::vector<Direction> unknown;
+  std::optional<Time> oldest;
+  uint64_t failed = 0;
+  for (const SonarRange& r : ranges.ranges) {
+    if (!oldest || r.stamp < *oldest) oldest = r.stamp;
+    const SonarMount& m = r.mount;
+    const double fov = std::isfinite(r.field_of_view_rad) && r.field_of_view_rad > 0
+                           ? static_cast<double>(r.field_of_view_rad)
+                           : 0.0;
+    if (LaserScan::IsFreeRange(r.range_m)) continue;  // no echo within the window
+    if (!std::isfinite(r.range_m) || r.range_m <= 0) {
+      ++failed;  // the sensor failed: anything may be in its cone
+      for (int k = 0; k < kFailedSonarRays; ++k) {
+        const double a = m.yaw_rad + fov * (k / (kFailedSonarRays - 1.0) - 0.5);
+        unknown.push_back(Direction{std::cos(a), std::sin(a), m.x_m, m.y_m});
+      }
+      continue;
+    }
+    // The echo may come from anywhere across the cone at that range: an arc of points.
+    const double d = std::max<double>(r.range_m, r.min_range_m);
+    const int n = std::max(2, static_cast<int>(std::ceil(fov * d / options_.sonar_arc_step_m)) + 1);
+    for (int j = 0; j < n; ++j) {
+      const double a = m.yaw_rad + fov * (j / (n - 1.0) - 0.5);
+      points.push_back(Point{m.x_m + d * std::cos(a), m.y_m + d * std::sin(a)});
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  sonar_points_ = std::move(points);
+  sonar_unknown_ = std::move(unknown);
+  sonar_stamp_ = oldest.value_or(Time{});
+  have_sonar_ = oldest.has_value();
+  ++counters_.sonar_cycles;
+  counters_.sonar_failed_readings += failed;
+}
+
+void SafetyGovernor::StopAtOnceLocked() {
+  DisarmLocked();
+  rearm_required_ = true;
+  output_linear_mps_ = 0;
+  output_angular_radps_ = 0;
+}
+
+void SafetyGovernor::SetBumpers(uint32_t pressed, int segments, bool readable,
+                                const std::string& error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  bumper_segments_ = std::clamp(segments, 0, 32);
+  if (bumper_segments_ < 32) pressed &= (1u << bumper_segments_) - 1;
+  if (!readable) {
+    ++counters_.bumper_read_failures;
+    bumper_readable_ = false;
+    bumper_error_ = error;
+    StopAtOnceLocked();
+    return;
+  }
+  bumper_readable_ = true;
+  bumper_error_.clear();
+  const uint32_t new_contacts = pressed & ~bumper_pressed_;
+  bumper_pressed_ = pressed;
+  if (new_contacts != 0) {
+    ++counters_.bumper_contacts;
+    bumper_latched_ |= new_contacts;
+    StopAtOnceLocked();
+  }
+}
+
 double SafetyGovernor::PathDistance(const Point& p, double curvature) const {
   const double half_width = 0.5 * options_.robot_width_m + options_.lateral_margin_m;
   if (std::abs(curvature) < 1e-3) {
@@ -290,11 +387,15 @@ double SafetyGovernor::FreeDistanceLocked(double linear_mps, double angular_radp
   const double curvature = angular_radps / linear_mps;  // linear_mps > 0
   double best = kInf;
   for (const Point& p : scan_points_) best = std::min(best, PathDistance(p, curvature));
+  if (last_sonar_fresh_ && have_sonar_) {
+    for (const Point& p : sonar_points_) best = std::min(best, PathDistance(p, curvature));
+  }
   return best;
 }
 
 int SafetyGovernor::UnknownBeamsInPathLocked(double linear_mps, double angular_radps) const {
-  if (unknown_beams_.empty()) return 0;
+  const bool sonar = last_sonar_fresh_ && have_sonar_ && !sonar_unknown_.empty();
+  if (unknown_beams_.empty() && !sonar) return 0;
   const double curvature = angular_radps / linear_mps;  // linear_mps > 0
   // A point of the path less than slow_distance ahead of the bumper is at most this far from
   // the laser (an arc is longer than its chord, plus half the band's width).
@@ -304,16 +405,24 @@ int SafetyGovernor::UnknownBeamsInPathLocked(double linear_mps, double angular_r
     reach_m = std::min(reach_m, scan_range_max_m_);
   }
   int in_path = 0;
-  for (const Direction& d : unknown_beams_) {
-    // The beam could end anywhere along its ray: it is in the path when some point of the ray
-    // lies in the swept band ahead of the bumper, closer than the slow distance.
-    for (double r = kUnknownBeamStepM; r <= reach_m; r += kUnknownBeamStepM) {
-      const double s = PathDistance(Point{r * d.cos_a, r * d.sin_a}, curvature);
-      if (s >= 0 && s < options_.slow_distance_m) {
-        ++in_path;
-        break;
+  auto count = [&](const std::vector<Direction>& rays, double reach) {
+    for (const Direction& d : rays) {
+      // The beam could end anywhere along its ray: it is in the path when some point of the
+      // ray lies in the swept band ahead of the bumper, closer than the slow distance.
+      for (double r = kUnknownBeamStepM; r <= reach; r += kUnknownBeamStepM) {
+        const double s = PathDistance(Point{d.x_m + r * d.cos_a, d.y_m + r * d.sin_a}, curvature);
+        if (s >= 0 && s < options_.slow_distance_m) {
+          ++in_path;
+          break;
+        }
       }
     }
+  };
+  count(unknown_beams_, reach_m);
+  // From a mount off the laser's origin: reach the same band (plus the mount's offset).
+  if (sonar) {
+    count(sonar_unknown_, options_.front_extent_m + options_.slow_distance_m +
+                              options_.robot_width_m + options_.lateral_margin_m);
   }
   return in_path;
 }
@@ -322,7 +431,9 @@ WatchdogState SafetyGovernor::StateLocked(SteadyTime /*now*/) const {
   if (estop_) return WatchdogState::kEstop;
   if (armed_ && command_fresh_) return WatchdogState::kDriving;
   if (output_linear_mps_ != 0 || output_angular_radps_ != 0) return WatchdogState::kStopping;
-  if (rearm_required_) return WatchdogState::kWaitRearm;
+  if (rearm_required_ || bumper_latched_ != 0 || !bumper_readable_) {
+    return WatchdogState::kWaitRearm;
+  }
   return WatchdogState::kIdle;
 }
 
@@ -353,6 +464,11 @@ GovernorOutput SafetyGovernor::Update() {
       have_scan_ && scan_age <= options_.scan_max_age && scan_age >= -options_.scan_max_age;
   last_scan_fresh_ = out.scan_fresh;
   last_unknown_in_path_ = 0;
+  const Duration sonar_age = now - sonar_stamp_;
+  out.sonar_fresh =
+      have_sonar_ && sonar_age <= options_.sonar_max_age && sonar_age >= -options_.sonar_max_age;
+  const bool sonar_expected = options_.sonar_expected || counters_.sonar_cycles > 0;
+  last_sonar_fresh_ = out.sonar_fresh || !sonar_expected;
   out.forward_limit_mps = options_.max_linear_mps;
   out.free_distance_m = kNaN;
   const double heading_v = target_v > 0 ? target_v : output_linear_mps_;
@@ -373,9 +489,21 @@ GovernorOutput SafetyGovernor::Update() {
     } else {
       out.forward_limit_mps = options_.unknown_scan_speed_factor * options_.max_linear_mps;
     }
+    if (!last_sonar_fresh_) {
+      out.forward_limit_mps = std::min(
+          out.forward_limit_mps, options_.unknown_scan_speed_factor * options_.max_linear_mps);
+      ++counters_.sonar_stale_cycles;
+    }
   }
   last_unknown_in_path_ = out.unknown_beams_in_path;
   target_v = std::min(target_v, out.forward_limit_mps);
+  // A segment still pressed after the re-arm: no linear motion towards it.
+  for (int i = 0; i < bumper_segments_; ++i) {
+    if (!(bumper_pressed_ & (1u << i))) continue;
+    const double c = std::cos(SegmentAngle(i, bumper_segments_));
+    if (c > kSideSegmentCos) target_v = std::min(target_v, 0.0);
+    if (c < -kSideSegmentCos) target_v = std::max(target_v, 0.0);
+  }
 
   if (estop_) {
     output_linear_mps_ = 0;
@@ -407,6 +535,11 @@ SafetyStatus SafetyGovernor::status() const {
     s.last_command_age_s = static_cast<float>(ToSeconds(now_steady - last_arrival_));
     s.last_command_sequence = last_sequence_;
   }
+  s.bumper_segments = bumper_segments_;
+  s.bumper_pressed = bumper_pressed_;
+  s.bumper_latched = bumper_latched_;
+  s.bumper_readable = bumper_readable_;
+  s.bumper_error = bumper_error_;
   s.counters = counters_;
   return s;
 }
@@ -414,16 +547,19 @@ SafetyStatus SafetyGovernor::status() const {
 DeviceHealth SafetyGovernor::Health() const {
   const SafetyStatus s = status();
   bool scan_fresh;
+  bool sonar_fresh;
   int unknown_in_path;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     scan_fresh = last_scan_fresh_;
+    sonar_fresh = last_sonar_fresh_;
     unknown_in_path = last_unknown_in_path_;
   }
   DeviceHealth health;
   health.name = "drive_safety";
   const bool nominal = (s.state == WatchdogState::kIdle || s.state == WatchdogState::kDriving) &&
-                       scan_fresh && unknown_in_path == 0;
+                       scan_fresh && sonar_fresh && unknown_in_path == 0 && s.bumper_latched == 0 &&
+                       s.bumper_readable;
   health.state = nominal ? DeviceState::kOk : DeviceState::kWarn;
   std::ostringstream message;
   message << WatchdogStateName(s.state);
@@ -433,9 +569,17 @@ DeviceHealth SafetyGovernor::Health() const {
     message << ")";
   }
   message << ", holder " << (s.holder_id.empty() ? "none" : s.holder_id);
+  if (s.bumper_latched != 0) {
+    message << ", bumper contact on segment "
+            << BumperSegmentList(s.bumper_latched, s.bumper_segments)
+            << ": stopped until the pilot re-arms";
+  }
+  if (!s.bumper_readable) message << ", bumpers unreadable (" << s.bumper_error << "): stopped";
   if (!scan_fresh) message << ", no fresh scan";
+  if (!sonar_fresh) message << ", no fresh sonar: speed capped";
   if (unknown_in_path > 0) {
-    message << ", " << unknown_in_path << " unknown laser beams in the path: speed capped";
+    message << ", " << unknown_in_path
+            << " unknown beams (laser or sonar) in the path: speed capped";
   }
   health.message = message.str();
   health.counters = s.counters.AsList();

@@ -28,6 +28,15 @@
 //   ahead of the bumper closer than `slow_distance_m`: an obstacle may hide behind it. Only
 //   +Inf (no echo, beyond range) counts as free. Reverse (unseen by the front laser) is limited
 //   by `max_reverse_mps` only; rotation in place is always allowed.
+// - Sonar (SetSonarRanges): each reading of a fresh belt cycle is an obstacle arc across its
+//   cone at its range, from its mount (base frame), for the same free-distance check; a failed
+//   sensor (NaN) is unknown space across its cone like a laser error beam. A cycle older than
+//   `sonar_max_age` is not used: once a belt is expected (`sonar_expected`, or after its first
+//   cycle) forward speed is then capped as for a missing scan.
+// - Bumpers (SetBumpers, every cycle before Update): a new contact stops the robot at once (no
+//   ramp) and latches the segment until the pilot re-arms (state kWaitRearm); an unreadable belt
+//   stops it too and arming waits until the belt reads again. A segment still pressed after the
+//   re-arm blocks the linear motion towards it (front half: forward; rear half: reverse).
 // Thread-safe (one internal mutex).
 #pragma once
 
@@ -43,6 +52,7 @@
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
+#include "common/types/sonar.h"
 
 namespace mostar::drive {
 
@@ -70,6 +80,11 @@ struct SafetyOptions {
   double slow_distance_m = 1.20;   // free space from which full forward speed is allowed
   Duration scan_max_age = std::chrono::milliseconds(500);
   double unknown_scan_speed_factor = 0.3;  // in [0, 1]
+
+  // Sonar belt. Mounts are in the base frame (= laser frame in x/y).
+  bool sonar_expected = false;  // a belt is fitted: no fresh cycle caps forward speed
+  Duration sonar_max_age = std::chrono::milliseconds(1000);  // > 0; older cycles are not used
+  double sonar_arc_step_m = 0.05;  // > 0: spacing of the obstacle points along a reading's arc
 
   // A longer gap between two Update() calls is treated as this long (bounds one ramp step).
   Duration max_cycle = std::chrono::milliseconds(100);
@@ -100,6 +115,11 @@ struct SafetyCounters {
   uint64_t scans = 0;
   uint64_t unknown_beams = 0;        // beams of unknown space (error codes) in the scans received
   uint64_t unknown_path_cycles = 0;  // cycles capped by unknown beams in the path ahead
+  uint64_t sonar_cycles = 0;
+  uint64_t sonar_failed_readings = 0;  // NaN readings (sensor failed), unknown space
+  uint64_t sonar_stale_cycles = 0;     // control cycles capped because no fresh sonar cycle
+  uint64_t bumper_contacts = 0;        // contacts that stopped the robot and latched
+  uint64_t bumper_read_failures = 0;   // control cycles whose bumper reading failed
   std::vector<std::pair<std::string, uint64_t>> AsList() const;
 };
 
@@ -116,6 +136,8 @@ struct GovernorOutput {
   // Beams of unknown space crossing the path ahead (0 when not driving forward); any caps the
   // forward speed like a missing scan.
   int unknown_beams_in_path = 0;
+  // Sonar obstacles were used this cycle (a fresh belt cycle).
+  bool sonar_fresh = false;
 };
 
 struct SafetyStatus {
@@ -127,8 +149,18 @@ struct SafetyStatus {
   std::string estop_reason;       // of a latch restored at start (RestoreEstop), else ""
   float last_command_age_s = -1;  // since the last accepted command arrived; -1 never
   uint64_t last_command_sequence = 0;
+  // Bumpers (SetBumpers): segments, pressed now, latched until the re-arm, readable.
+  int bumper_segments = 0;
+  uint32_t bumper_pressed = 0;
+  uint32_t bumper_latched = 0;
+  bool bumper_readable = true;
+  std::string bumper_error;  // of the last failed reading while unreadable
   SafetyCounters counters;
 };
+
+// "0 (0 deg), 15 (338 deg)": the segments of `mask` among `segments` with their centre angle
+// counter-clockwise from straight ahead; "" for an empty mask.
+std::string BumperSegmentList(uint32_t mask, int segments);
 
 class SafetyGovernor {
  public:
@@ -159,6 +191,15 @@ class SafetyGovernor {
   // +Inf free space, anything else (NaN, -Inf, below range_min_m) unknown space.
   void SetLaserScan(const LaserScan& scan);
 
+  // The latest sonar belt cycle (mounts in the base frame; stamps on the robot's wall clock).
+  // Finite range: obstacle arc at max(range, min_range_m); +Inf: free; NaN or other: unknown.
+  void SetSonarRanges(const SonarRanges& ranges);
+
+  // The bumper belt's reading of this control cycle (`segments` 1..32, bit i = segment i
+  // centred at i x 360/segments deg CCW from ahead). `readable` false: the contacts cannot be
+  // read (`error` says why). Call before Update().
+  void SetBumpers(uint32_t pressed, int segments, bool readable, const std::string& error = "");
+
   // One control cycle: call at a steady rate (e.g. 50 Hz) and send the result to the motors.
   GovernorOutput Update();
 
@@ -178,9 +219,11 @@ class SafetyGovernor {
     double x_m;
     double y_m;
   };
-  struct Direction {  // unit vector of a beam of unknown space, laser frame
+  struct Direction {  // ray of unknown space from (x_m, y_m), base (= laser) frame
     double cos_a;
     double sin_a;
+    double x_m = 0;
+    double y_m = 0;
   };
 
   void DisarmLocked();
@@ -193,6 +236,8 @@ class SafetyGovernor {
   double PathDistance(const Point& p, double curvature) const;
   int UnknownBeamsInPathLocked(double linear_mps, double angular_radps) const;
   WatchdogState StateLocked(SteadyTime now) const;
+  // Bumper contact or unreadable belt: zero output at once, disarmed, re-arm required.
+  void StopAtOnceLocked();
 
   const Clock& clock_;
   const SafetyOptions options_;
@@ -226,6 +271,20 @@ class SafetyGovernor {
   bool have_scan_ = false;
   bool last_scan_fresh_ = false;
   int last_unknown_in_path_ = 0;
+
+  // Sonar.
+  std::vector<Point> sonar_points_;
+  std::vector<Direction> sonar_unknown_;
+  Time sonar_stamp_;  // oldest reading of the cycle
+  bool have_sonar_ = false;
+  bool last_sonar_fresh_ = true;  // for health; true while no belt is expected
+
+  // Bumpers.
+  int bumper_segments_ = 0;
+  uint32_t bumper_pressed_ = 0;
+  uint32_t bumper_latched_ = 0;
+  bool bumper_readable_ = true;
+  std::string bumper_error_;
 
   // Output.
   double output_linear_mps_ = 0;

@@ -417,7 +417,7 @@ TEST_F(SafetyGovernorTest, ErrorCodedBeamsInThePathCapForwardSpeedLikeAMissingSc
   EXPECT_NEAR(out.linear_mps, capped, 1e-9);
   DeviceHealth health = governor_.Health();
   EXPECT_EQ(health.state, DeviceState::kWarn);
-  EXPECT_NE(health.message.find("5 unknown laser beams in the path"), std::string::npos)
+  EXPECT_NE(health.message.find("5 unknown beams (laser or sonar) in the path"), std::string::npos)
       << health.message;
   EXPECT_EQ(CounterOf(health, "unknown_path_cycles"), 100u);
   EXPECT_EQ(CounterOf(health, "unknown_beams"), 500u);
@@ -500,6 +500,202 @@ TEST_F(SafetyGovernorTest, HealthSummaryCarriesStateAndCounters) {
   EXPECT_EQ(robot.watchdog_state, WatchdogState::kDriving);
   EXPECT_GE(robot.last_command_age_s, 0.f);
   EXPECT_EQ(robot.last_command_sequence, sequence_ - 1);
+}
+
+// A sonar reading `range_m` from a mount at (x, y) with axis `yaw_rad` (base frame), 55 deg cone.
+SonarRanges SonarOf(Time stamp, double x_m, double y_m, double yaw_rad, float range_m) {
+  SonarRange r;
+  r.mount = SonarMount{"sonar_0", x_m, y_m, yaw_rad};
+  r.stamp = stamp;
+  r.range_m = range_m;
+  r.min_range_m = 0.03f;
+  r.max_range_m = 6.0f;
+  r.field_of_view_rad = static_cast<float>(55 * M_PI / 180);
+  SonarRanges ranges;
+  ranges.ranges.push_back(r);
+  return ranges;
+}
+
+// The laser sees nothing (a glass pane); the front sonar, 0.2 m ahead of the base origin on the
+// bumper line, hears the pane. Its echo is an arc across the cone: the nearest point of the arc
+// inside the corridor limits the speed, and a close pane stops the robot.
+TEST_F(SafetyGovernorTest, SonarSeesTheGlassPaneTheLaserPasses) {
+  Arm();
+  GovernorOutput out;
+  for (int i = 0; i < 50; ++i) {
+    Send(0.6, 0);
+    governor_.SetSonarRanges(SonarOf(clock_.Now(), 0.2, 0, 0, 1.0f));
+    out = Cycle();
+  }
+  EXPECT_TRUE(out.sonar_fresh);
+  // Corridor half width 0.35 m: the arc's points within it are at most 20.5 deg off the axis,
+  // x = 0.2 + cos(20.5 deg) = 1.137 m, so 0.937 m ahead of the bumper.
+  EXPECT_NEAR(out.free_distance_m, 0.937, 0.02);
+  const double expected_limit = (0.937 - 0.30) / (1.20 - 0.30) * 0.6;
+  EXPECT_NEAR(out.forward_limit_mps, expected_limit, 0.02);
+  EXPECT_LE(out.linear_mps, expected_limit + 0.02);
+  for (int i = 0; i < 100; ++i) {
+    Send(0.6, 0);
+    governor_.SetSonarRanges(SonarOf(clock_.Now(), 0.2, 0, 0, 0.3f));
+    out = Cycle();
+  }
+  EXPECT_EQ(out.forward_limit_mps, 0.0);
+  EXPECT_EQ(out.linear_mps, 0.0) << "stopped before the pane";
+  // Reverse and rotation stay allowed.
+  EXPECT_LT(Drive(-0.2, 0, 20).linear_mps, 0.0);
+}
+
+TEST_F(SafetyGovernorTest, SonarBesideTheCorridorDoesNotSlowStraightMotion) {
+  Arm();
+  GovernorOutput out;
+  for (int i = 0; i < 100; ++i) {
+    Send(0.6, 0);
+    // The left sensor at (0, 0.3), facing left, hears a wall 0.5 m away: the arc lies at
+    // y >= 0.3 + 0.5 cos(27.5 deg) = 0.74 m, outside the corridor.
+    governor_.SetSonarRanges(SonarOf(clock_.Now(), 0, 0.3, M_PI / 2, 0.5f));
+    out = Cycle();
+  }
+  EXPECT_EQ(out.forward_limit_mps, options_.max_linear_mps);
+  EXPECT_NEAR(out.linear_mps, 0.6, 1e-9);
+}
+
+// A sonar cycle older than sonar_max_age is not used: its obstacle does not stop the robot for
+// ever, but the belt, once heard, is unknown: forward speed is capped as for a missing scan.
+TEST_F(SafetyGovernorTest, StaleSonarIsNotTrustedAndCapsForwardSpeed) {
+  Arm();
+  const double capped = options_.unknown_scan_speed_factor * options_.max_linear_mps;
+  governor_.SetSonarRanges(SonarOf(clock_.Now(), 0.2, 0, 0, 0.3f));
+  GovernorOutput out;
+  for (int i = 0; i < 150; ++i) {  // 3 s without a new sonar cycle
+    Send(0.6, 0);
+    out = Cycle();
+  }
+  EXPECT_FALSE(out.sonar_fresh);
+  EXPECT_NEAR(out.forward_limit_mps, capped, 1e-9);
+  EXPECT_NEAR(out.linear_mps, capped, 1e-9) << "the stale obstacle is not used, speed capped";
+  EXPECT_EQ(governor_.Health().state, DeviceState::kWarn);
+  EXPECT_NE(governor_.Health().message.find("no fresh sonar"), std::string::npos);
+  EXPECT_GT(CounterOf(governor_.Health(), "sonar_stale_cycles"), 0u);
+  // Fresh again: the obstacle stops the robot.
+  for (int i = 0; i < 50; ++i) {
+    Send(0.6, 0);
+    governor_.SetSonarRanges(SonarOf(clock_.Now(), 0.2, 0, 0, 0.3f));
+    out = Cycle();
+  }
+  EXPECT_TRUE(out.sonar_fresh);
+  EXPECT_EQ(out.linear_mps, 0.0);
+}
+
+TEST_F(SafetyGovernorTest, AnExpectedBeltThatNeverSpokeCapsForwardSpeed) {
+  SafetyOptions options;
+  options.sonar_expected = true;
+  SafetyGovernor governor(clock_, options);
+  governor.SetLeaseHolder("alice");
+  governor.HandleCommand(Command(0, 0, false), known_offset_);
+  GovernorOutput out;
+  for (int i = 0; i < 100; ++i) {
+    governor.HandleCommand(Command(0.6, 0, true), known_offset_);
+    clock_.Advance(kCycle);
+    governor.SetLaserScan(ScanOf(clock_.Now(), {}));
+    out = governor.Update();
+  }
+  EXPECT_FALSE(out.sonar_fresh);
+  EXPECT_NEAR(out.linear_mps, options.unknown_scan_speed_factor * options.max_linear_mps, 1e-9);
+}
+
+TEST_F(SafetyGovernorTest, AFailedSonarAheadCapsForwardSpeedLikeAnUnknownBeam) {
+  Arm();
+  GovernorOutput out;
+  for (int i = 0; i < 100; ++i) {
+    Send(0.6, 0);
+    governor_.SetSonarRanges(
+        SonarOf(clock_.Now(), 0.2, 0, 0, std::numeric_limits<float>::quiet_NaN()));
+    out = Cycle();
+  }
+  EXPECT_GT(out.unknown_beams_in_path, 0);
+  EXPECT_NEAR(out.linear_mps, options_.unknown_scan_speed_factor * options_.max_linear_mps, 1e-9);
+  EXPECT_GT(CounterOf(governor_.Health(), "sonar_failed_readings"), 0u);
+}
+
+// A contact stops the robot in the same cycle (no ramp) and latches until the pilot re-arms,
+// even after the segment is released; health names the segment.
+TEST_F(SafetyGovernorTest, BumperContactStopsAtOnceAndLatchesUntilTheRearm) {
+  Arm();
+  governor_.SetBumpers(0, 16, true);
+  GovernorOutput out = Drive(0.5, 0, 100);
+  ASSERT_NEAR(out.linear_mps, 0.5, 1e-9);
+  governor_.SetBumpers(1u << 1, 16, true);  // segment 1, 22.5 deg left of ahead
+  Send(0.5, 0);
+  out = Cycle();
+  EXPECT_EQ(out.linear_mps, 0.0) << "no ramp";
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+  SafetyStatus status = governor_.status();
+  EXPECT_EQ(status.bumper_latched, 1u << 1);
+  EXPECT_FALSE(status.armed);
+  const DeviceHealth health = governor_.Health();
+  EXPECT_EQ(health.state, DeviceState::kWarn);
+  EXPECT_NE(health.message.find("bumper contact on segment 1 (23 deg)"), std::string::npos)
+      << health.message;
+  EXPECT_EQ(CounterOf(health, "bumper_contacts"), 1u);
+  // Released, but still latched: commands with enable held do not move it.
+  governor_.SetBumpers(0, 16, true);
+  out = Drive(0.5, 0, 50);
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(governor_.status().bumper_latched, 1u << 1);
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+  // The re-arm clears the latch.
+  Arm();
+  EXPECT_EQ(governor_.status().bumper_latched, 0u);
+  out = Drive(0.5, 0, 100);
+  EXPECT_NEAR(out.linear_mps, 0.5, 1e-9);
+  EXPECT_EQ(out.state, WatchdogState::kDriving);
+}
+
+// After the re-arm a segment still pressed blocks linear motion towards it only, so that the
+// pilot can back away from the obstacle or turn.
+TEST_F(SafetyGovernorTest, ASegmentStillPressedAfterTheRearmBlocksMotionTowardsIt) {
+  Arm();
+  governor_.SetBumpers(1u << 0, 16, true);  // front
+  Drive(0.5, 0, 5);
+  EXPECT_EQ(governor_.status().bumper_latched, 1u);
+  Arm();
+  EXPECT_EQ(governor_.status().bumper_latched, 0u) << "re-armed";
+  EXPECT_EQ(Drive(0.5, 0, 50).linear_mps, 0.0) << "not forward into the contact";
+  EXPECT_GT(Drive(0, 0.5, 50).angular_radps, 0.0) << "rotation allowed";
+  EXPECT_LT(Drive(-0.2, 0, 50).linear_mps, 0.0) << "backing away allowed";
+  EXPECT_EQ(governor_.status().bumper_latched, 0u) << "a held contact does not latch again";
+  // A rear contact blocks reverse and latches (a new contact).
+  governor_.SetBumpers((1u << 0) | (1u << 8), 16, true);
+  EXPECT_EQ(Drive(-0.2, 0, 5).linear_mps, 0.0);
+  EXPECT_EQ(governor_.status().bumper_latched, 1u << 8);
+}
+
+TEST_F(SafetyGovernorTest, AnUnreadableBumperBeltStopsAndArmingWaitsUntilItReadsAgain) {
+  Arm();
+  GovernorOutput out = Drive(0.5, 0, 100);
+  ASSERT_GT(out.linear_mps, 0.4);
+  governor_.SetBumpers(0, 16, false, "gpiochip0: read failed");
+  Send(0.5, 0);
+  out = Cycle();
+  EXPECT_EQ(out.linear_mps, 0.0);
+  EXPECT_EQ(out.state, WatchdogState::kWaitRearm);
+  EXPECT_NE(governor_.Health().message.find("bumpers unreadable (gpiochip0: read failed)"),
+            std::string::npos)
+      << governor_.Health().message;
+  Arm();
+  EXPECT_FALSE(governor_.status().armed) << "no arming while the belt is unknown";
+  EXPECT_EQ(Drive(0.5, 0, 20).linear_mps, 0.0);
+  governor_.SetBumpers(0, 16, true);
+  Arm();
+  EXPECT_TRUE(governor_.status().armed);
+  EXPECT_GT(Drive(0.5, 0, 20).linear_mps, 0.0);
+  EXPECT_EQ(CounterOf(governor_.Health(), "bumper_read_failures"), 1u);
+}
+
+TEST_F(SafetyGovernorTest, BumperSegmentListNamesSegmentsAndAngles) {
+  EXPECT_EQ(BumperSegmentList(0, 16), "");
+  EXPECT_EQ(BumperSegmentList((1u << 0) | (1u << 15), 16), "0 (0 deg), 15 (338 deg)");
+  EXPECT_EQ(BumperSegmentList(1u << 2, 8), "2 (90 deg)");
 }
 
 }  // namespace

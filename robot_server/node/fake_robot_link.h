@@ -19,6 +19,12 @@ class FakeRobotLink final : public RobotLink {
   void PublishOdometry(const Odometry& odometry) override {
     Locked([&] { odometries.push_back(odometry); });
   }
+  void PublishSonar(const SonarRanges& ranges) override {
+    Locked([&] { sonars.push_back(ranges); });
+  }
+  void PublishBumpers(const BumperState& state) override {
+    Locked([&] { bumpers.push_back(state); });
+  }
   void PublishHealth(const RobotHealth& health) override {
     Locked([&] { healths.push_back(health); });
   }
@@ -45,6 +51,8 @@ class FakeRobotLink final : public RobotLink {
   std::vector<LaserScan> scans;
   std::vector<Odometry> odometries;
   std::vector<RobotHealth> healths;
+  std::vector<SonarRanges> sonars;
+  std::vector<BumperState> bumpers;
   std::vector<ControlLease> leases;
   std::vector<std::pair<Eye, CameraIntrinsicsInfo>> camera_infos;
   std::vector<std::pair<Eye, CompressedImage>> images;

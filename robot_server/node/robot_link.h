@@ -7,10 +7,12 @@
 #include <string>
 
 #include "common/time/time.h"
+#include "common/types/bumper.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
 
 namespace mostar::server {
@@ -24,6 +26,10 @@ class RobotLink {
 
   virtual void PublishScan(const LaserScan& scan) = 0;
   virtual void PublishOdometry(const Odometry& odometry) = 0;
+  // One sonar belt cycle: the ring with its mounts, and each sensor on its own (ROS 2 Range).
+  virtual void PublishSonar(const SonarRanges& ranges) = 0;
+  // The bumper belt's state (the caller publishes it on change and at 1 Hz).
+  virtual void PublishBumpers(const BumperState& state) = 0;
   virtual void PublishHealth(const RobotHealth& health) = 0;
   virtual void PublishLease(const ControlLease& lease) = 0;
   virtual void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) = 0;

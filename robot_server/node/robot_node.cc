@@ -108,6 +108,12 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       std::make_unique<decltype(node->odom_)::element_type>(p, topics::kOdometry, Stream::kSensor);
   node->timing_ = std::make_unique<decltype(node->timing_)::element_type>(p, topics::kCameraTiming,
                                                                           Stream::kSensor);
+  node->sonar_ =
+      std::make_unique<decltype(node->sonar_)::element_type>(p, topics::kSonar, Stream::kSensor);
+  node->sonar_range_ = std::make_unique<decltype(node->sonar_range_)::element_type>(
+      p, topics::kSonarRange, Stream::kSensor);
+  node->bumpers_ =
+      std::make_unique<decltype(node->bumpers_)::element_type>(p, topics::kBumpers, Stream::kState);
   node->health_ =
       std::make_unique<decltype(node->health_)::element_type>(p, topics::kHealth, Stream::kState);
   node->lease_ = std::make_unique<decltype(node->lease_)::element_type>(p, topics::kControlLease,
@@ -153,9 +159,10 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   }
   if (!Check(node->scan_, error) || !Check(node->left_info_, error) ||
       !Check(node->right_info_, error) || !Check(node->odom_, error) ||
-      !Check(node->timing_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
-      !Check(node->pong_, error) || !Check(node->command_, error) || !Check(node->estop_, error) ||
-      !Check(node->request_, error) || !Check(node->ping_, error)) {
+      !Check(node->timing_, error) || !Check(node->health_, error) || !Check(node->sonar_, error) ||
+      !Check(node->sonar_range_, error) || !Check(node->bumpers_, error) ||
+      !Check(node->lease_, error) || !Check(node->pong_, error) || !Check(node->command_, error) ||
+      !Check(node->estop_, error) || !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
   node->publisher_ = std::thread([self] { self->PublisherLoop(); });
@@ -235,6 +242,15 @@ void RobotNode::PublishScan(const LaserScan& scan) {
 }
 void RobotNode::PublishOdometry(const Odometry& odometry) {
   Post([this, m = dds::ToIdl(odometry)] { odom_->Write(m); });
+}
+void RobotNode::PublishSonar(const SonarRanges& ranges) {
+  Post([this, m = dds::ToIdl(ranges)] { sonar_->Write(m); });
+  for (const SonarRange& range : ranges.ranges) {
+    Post([this, m = dds::ToIdl(range)] { sonar_range_->Write(m); });
+  }
+}
+void RobotNode::PublishBumpers(const BumperState& state) {
+  Post([this, m = dds::ToIdl(state)] { bumpers_->Write(m); });
 }
 void RobotNode::PublishHealth(const RobotHealth& health) {
   Post([this, m = dds::ToIdl(health)] { health_->Write(m); });

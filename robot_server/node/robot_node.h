@@ -27,10 +27,12 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/qos.h"
 #include "common/time/time.h"
+#include "common/types/bumper.h"
 #include "common/types/commands.h"
 #include "common/types/health.h"
 #include "common/types/laser_scan.h"
 #include "common/types/odometry.h"
+#include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "robot_server/node/clock_responder.h"
@@ -95,6 +97,9 @@ class RobotNode final : public RobotLink {
   // then keeps the newest kOutboxCapacity samples and counts the older ones it drops.
   void PublishScan(const LaserScan& scan) override;
   void PublishOdometry(const Odometry& odometry) override;
+  // The ring on rt/mostar/sonar, then one Range per sensor on rt/mostar/sonar/range.
+  void PublishSonar(const SonarRanges& ranges) override;
+  void PublishBumpers(const BumperState& state) override;
   void PublishHealth(const RobotHealth& health) override;
   void PublishLease(const ControlLease& lease) override;
   static constexpr size_t kOutboxCapacity = 256;
@@ -171,6 +176,9 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<dds::Writer<nav_msgs::msg::dds_::Odometry_PubSubType>> odom_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::FrameTiming_PubSubType>> timing_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar_;
+  std::unique_ptr<dds::Writer<sensor_msgs::msg::dds_::Range_PubSubType>> sonar_range_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;

@@ -10,8 +10,14 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
 #include <thread>
+#include <vector>
 
+#include "common/dds/conversions.h"
 #include "common/dds/domain.h"
 #include "common/dds/topics.h"
 #include "common/testing/dds_profiles.h"
@@ -144,6 +150,72 @@ TEST(RobotNodeTest, HealthSaysWhenDdsSecurityIsOff) {
   node.reset();
   std::remove(xml.c_str());
   ::rmdir(dir.c_str());
+}
+
+// A sonar cycle goes out as the ring on rt/mostar/sonar and as one sensor_msgs/Range per
+// sensor on rt/mostar/sonar/range; the bumper state is kept for late joiners (transient local).
+TEST(RobotNodeTest, PublishesTheSonarRingEachSensorsRangeAndTheBumperState) {
+  auto robot = MakeParticipant("robot");
+  auto viewer = MakeParticipant("operator");
+  ASSERT_TRUE(robot && viewer);
+  std::string error;
+  auto node = RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error);
+  ASSERT_NE(node, nullptr) << error;
+  BumperState bumpers;
+  bumpers.stamp = SystemClock::Instance().Now();
+  bumpers.segment_count = 16;
+  bumpers.pressed = 1u << 8;
+  bumpers.latched = 1u << 8;
+  node->PublishBumpers(bumpers);
+  ASSERT_TRUE(node->FlushOutbox(std::chrono::seconds(5)));
+
+  std::mutex mutex;
+  std::vector<SonarRanges> rings;
+  std::set<std::string> range_frames;
+  std::optional<BumperState> got_bumpers;
+  dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType> ring_reader(
+      *viewer, dds::topics::kSonar, dds::Stream::kSensor, [&](const auto& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        rings.push_back(dds::FromIdl(m));
+      });
+  dds::Reader<sensor_msgs::msg::dds_::Range_PubSubType> range_reader(
+      *viewer, dds::topics::kSonarRange, dds::Stream::kSensor, [&](const auto& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        range_frames.insert(dds::FromIdl(m).mount.frame_id);
+      });
+  dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType> bumper_reader(
+      *viewer, dds::topics::kBumpers, dds::Stream::kState, [&](const auto& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        got_bumpers = dds::FromIdl(m);
+      });
+  ASSERT_TRUE(ring_reader.ok() && range_reader.ok() && bumper_reader.ok());
+  SonarRanges cycle;
+  for (int i = 0; i < 3; ++i) {
+    SonarRange r;
+    r.mount = SonarMount{"sonar_" + std::to_string(i), 0.1 * i, 0, 0.5 * i};
+    r.stamp = SystemClock::Instance().Now();
+    r.range_m = 1.0f + static_cast<float>(i);
+    r.max_range_m = 6.0f;
+    r.field_of_view_rad = 0.96f;
+    cycle.ranges.push_back(r);
+  }
+  // Best effort: publish until both sonar topics arrived (discovery takes a moment).
+  bool done = false;
+  for (int i = 0; i < 200 && !done; ++i) {  // 10 s at most
+    cycle.cycle = static_cast<uint64_t>(i + 1);
+    node->PublishSonar(cycle);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::lock_guard<std::mutex> lock(mutex);
+    done = !rings.empty() && range_frames.size() == 3 && got_bumpers.has_value();
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_FALSE(rings.empty());
+  EXPECT_EQ(rings.back().ranges.size(), 3u);
+  EXPECT_FLOAT_EQ(rings.back().ranges[2].range_m, 3.0f);
+  EXPECT_EQ(range_frames, (std::set<std::string>{"sonar_0", "sonar_1", "sonar_2"}));
+  ASSERT_TRUE(got_bumpers.has_value()) << "the bumper state published before the reader joined";
+  EXPECT_EQ(got_bumpers->latched, 1u << 8);
+  EXPECT_EQ(got_bumpers->segment_count, 16);
 }
 
 TEST(RobotNodeTest, RejectsAnInvalidVideoWindow) {

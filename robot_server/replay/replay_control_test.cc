@@ -100,8 +100,8 @@ TEST(ReplayPublisherTest, PublishesEachRecordKindWhenDueAndActsOnNoCommand) {
   ASSERT_EQ(link.images.size(), 1u);
   EXPECT_EQ(link.images[0].first, Eye::kLeft);
   clock.Advance(milliseconds(100));
-  EXPECT_EQ(publisher.PublishDue(), 8u);
-  EXPECT_EQ(publisher.published(), 9u);
+  EXPECT_EQ(publisher.PublishDue(), 10u);
+  EXPECT_EQ(publisher.published(), 11u);
   ASSERT_EQ(link.images.size(), 2u);
   EXPECT_EQ(link.images[1].first, Eye::kRight);
   ASSERT_EQ(link.scans.size(), 1u);
@@ -109,6 +109,11 @@ TEST(ReplayPublisherTest, PublishesEachRecordKindWhenDueAndActsOnNoCommand) {
   EXPECT_EQ(link.odometries.size(), 1u);
   EXPECT_EQ(link.leases.size(), 1u);
   EXPECT_EQ(link.healths.size(), 1u);
+  ASSERT_EQ(link.sonars.size(), 1u);
+  EXPECT_EQ(link.sonars[0].cycle, 41u);
+  EXPECT_EQ(link.sonars[0].ranges.size(), 3u);
+  ASSERT_EQ(link.bumpers.size(), 1u);
+  EXPECT_EQ(link.bumpers[0].latched, 1u);
   EXPECT_TRUE(player.finished());
 }
 

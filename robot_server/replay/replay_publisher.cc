@@ -39,6 +39,10 @@ size_t ReplayPublisher::PublishDue() {
             link_->PublishHealth(p);
           } else if constexpr (std::is_same_v<T, ControlLease>) {
             link_->PublishLease(p);
+          } else if constexpr (std::is_same_v<T, SonarRanges>) {
+            link_->PublishSonar(p);
+          } else if constexpr (std::is_same_v<T, BumperState>) {
+            link_->PublishBumpers(p);
           }
         },
         m.payload);
