@@ -317,6 +317,8 @@ int Run(int argc, char** argv) {
   if (console.captured()) {
     std::cout << " captured_stamp_ns=" << ToUnixNanos(*console.captured_stamp());
   }
+  std::cout << " sonar_echoes=" << console.sonar_echoes()
+            << " sonar_unseen=" << console.sonar_unseen();
   for (const ui::LatencyRow& row : console.latency().Rows()) {
     std::cout << " latency_" << row.name << "_ms_p50=" << row.p50_ms << " latency_" << row.name
               << "_ms_p95=" << row.p95_ms;

@@ -188,6 +188,51 @@ TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
   EXPECT_NEAR(value("latency_unexplained_ms_p50"), 0.0, 0.5) << "a stage without its stamp";
 }
 
+// The simulated robot before the closed glass door (deploy/scenes/glass_door.pbtxt): the laser
+// measures the wall behind the glass, the sonar belt hears the door, and the console draws the
+// forward sonar sectors outlined in magenta as echoes the laser does not see.
+TEST_F(EndToEndTest, SonarSectorsShowTheGlassDoorTheLaserSeesThrough) {
+  Subprocess server;
+  std::string error;
+  ASSERT_TRUE(server.Start(
+      {Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+       Source("deploy/config/server_sim.pbtxt"), "--sim", Source("deploy/scenes/glass_door.pbtxt")},
+      dir_ + "/server.log", &error))
+      << error;
+  Subprocess client;
+  // Edge processing off: its magenta dots would count as sonar outlines.
+  const std::string config = dir_ + "/client.pbtxt";
+  {
+    std::ofstream out(config);
+    out << "calibration_profile: \"" << Source("deploy/config/calibration_sim.pbtxt")
+        << "\"\nvision_enabled: false\n";
+  }
+  ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
+                            domain_, "--id", "observer", "--role", "observer", "--config", config,
+                            "--capture-after", "45", "--screenshot", dir_ + "/sonar.png"},
+                           dir_ + "/client.log", &error))
+      << error;
+  const std::optional<int> client_exit = client.Wait(std::chrono::seconds(90));
+  ASSERT_TRUE(client_exit.has_value()) << "client hung";
+  server.Signal(SIGTERM);
+  ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value()) << "server did not stop";
+  const std::string report = testing::ReadFile(dir_ + "/client.log");
+  ASSERT_EQ(*client_exit, 0) << report;
+  auto value = [&](const std::string& key) {
+    const size_t at = report.find(" " + key + "=");
+    EXPECT_NE(at, std::string::npos) << key << " missing in " << report;
+    return at == std::string::npos ? -1 : std::stoi(report.substr(at + key.size() + 2));
+  };
+  EXPECT_GE(value("sonar_echoes"), 3) << "the belt hears the room";
+  EXPECT_GE(value("sonar_unseen"), 1) << "the glass door: sonar echo, no laser point";
+  const cv::Mat shot = cv::imread(dir_ + "/sonar.png", cv::IMREAD_COLOR);
+  ASSERT_FALSE(shot.empty());
+  cv::Mat magenta;  // the outline colour (255, 0, 255), blended a little by the line edges
+  cv::inRange(shot(cv::Rect(0, shot.rows / 2, shot.cols, shot.rows - shot.rows / 2)),
+              cv::Scalar(200, 0, 200), cv::Scalar(255, 90, 255), magenta);
+  EXPECT_GE(cv::countNonZero(magenta), 100) << "no magenta sonar outline in " << dir_;
+}
+
 TEST_F(EndToEndTest, BadFlagsAndConfigGiveClearErrors) {
   Subprocess server;
   std::string error;

@@ -27,9 +27,11 @@ bool HasEcho(const SonarRange& r) {
          r.range_m > 0.f;
 }
 
-// True when a valid laser point lies in the sonar's cone, no farther than its echo + margin.
-bool LaserAgrees(const SonarRange& r, const std::vector<ScanPointLabel>& points, float margin_m) {
-  const double half_fov = 0.5 * r.field_of_view_rad;
+// True when a valid laser point lies in the central `fraction` of the sonar's cone, no farther
+// than its echo + margin.
+bool LaserAgrees(const SonarRange& r, const std::vector<ScanPointLabel>& points, float margin_m,
+                 float fraction) {
+  const double half_fov = 0.5 * fraction * r.field_of_view_rad;
   for (const ScanPointLabel& p : points) {
     if (!p.valid) continue;
     const double dx = p.x_m - r.mount.x_m;
@@ -54,6 +56,10 @@ bool SonarFeatureOptions::IsValid(std::string* error) const {
     return Fail(error,
                 "arc_segments must be in [1, 256] (got " + std::to_string(arc_segments) + ")");
   }
+  if (!(agreement_cone_fraction > 0.f && agreement_cone_fraction <= 1.f)) {
+    return Fail(error, "agreement_cone_fraction must be in (0, 1] (got " +
+                           std::to_string(agreement_cone_fraction) + ")");
+  }
   if (!(std::isfinite(laser_agreement_margin_m) && laser_agreement_margin_m > 0.f)) {
     return Fail(error, "laser_agreement_margin_m must be > 0 (got " +
                            std::to_string(laser_agreement_margin_m) + ")");
@@ -62,8 +68,8 @@ bool SonarFeatureOptions::IsValid(std::string* error) const {
 }
 
 void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLabel>& laser_points,
-                        const ArFeatureOptions& colors, const SonarFeatureOptions& options,
-                        SonarFeatures* out) {
+                        const LaserFieldOfView& laser_fov, const ArFeatureOptions& colors,
+                        const SonarFeatureOptions& options, SonarFeatures* out) {
   MOSTAR_CHECK(options.IsValid(nullptr));
   out->sectors.clear();
   out->fans.Clear();
@@ -80,7 +86,15 @@ void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLab
     sector.has_echo = HasEcho(r);
     if (sector.has_echo) {
       ++out->echoes;
-      sector.unseen_by_laser = !LaserAgrees(r, laser_points, options.laser_agreement_margin_m);
+      // Where the sonar looks: a point on its axis at the echo, seen from the laser's origin.
+      const double axis_x = r.mount.x_m + r.range_m * std::cos(r.mount.yaw_rad);
+      const double axis_y = r.mount.y_m + r.range_m * std::sin(r.mount.yaw_rad);
+      const double bearing = std::atan2(axis_y, axis_x);
+      sector.compared = laser_fov.angle_max_rad >= laser_fov.angle_min_rad &&
+                        bearing >= laser_fov.angle_min_rad && bearing <= laser_fov.angle_max_rad;
+      sector.unseen_by_laser =
+          sector.compared && !LaserAgrees(r, laser_points, options.laser_agreement_margin_m,
+                                          options.agreement_cone_fraction);
       if (sector.unseen_by_laser) ++out->unseen;
       sector.color = DistanceColor(r.range_m, colors.min_distance_m, colors.max_distance_m);
     }

@@ -21,9 +21,12 @@ struct SonarFeatureOptions {
   float sector_alpha = 0.25f;  // [0, 1], sectors the laser agrees with
   float unseen_alpha = 0.55f;  // [0, 1], sectors the laser does not see
   int arc_segments = 12;       // >= 1: segments of each sector's far arc
-  // An echo counts as seen by the laser when a valid laser point lies inside the sonar's cone
-  // no farther from the sonar than its echo plus this margin; > 0.
+  // An echo counts as seen by the laser when a valid laser point lies inside the central part
+  // of the sonar's cone (this fraction of its angle: the main lobe, where an echo mostly comes
+  // from; (0, 1]) no farther from the sonar than its echo plus the margin (> 0). Only sonars
+  // looking into the laser's field of view are compared: behind the scanner nothing is unseen.
   float laser_agreement_margin_m = 0.30f;
+  float agreement_cone_fraction = 0.5f;
   // Outline of an unseen sector: the echo arc and the cone's sides, as lines.
   Rgba unseen_outline{1.f, 0.f, 1.f, 1.f};  // magenta, as the obstacles edges find
 
@@ -34,7 +37,8 @@ struct SonarFeatureOptions {
 struct SonarSector {
   size_t sensor = 0;             // index in SonarRanges::ranges
   bool has_echo = false;         // a finite range in [min_range_m, max_range_m]
-  bool unseen_by_laser = false;  // has_echo and no laser point agrees
+  bool compared = false;         // has_echo and the sonar looks into the laser's field of view
+  bool unseen_by_laser = false;  // compared and no laser point agrees
   float range_m = 0;
   Rgba color;  // distance colour, opaque
 };
@@ -47,13 +51,20 @@ struct SonarFeatures {
   size_t unseen = 0;                 // of them, not seen by the laser
 };
 
+// The laser's field of view, angles from the laser's x axis, counter-clockwise (LaserScan).
+struct LaserFieldOfView {
+  float angle_min_rad = 0.f;
+  float angle_max_rad = -1.f;  // < angle_min_rad (the default): no scan, nothing is compared
+};
+
 // Builds the sonar cues of one belt cycle. `laser_points` are the scan's labelled points
-// (ArFeatures::points, laser frame); empty when no scan is known, and then every echo is unseen.
+// (ArFeatures::points, laser frame) and `laser_fov` its field of view; a sonar is compared with
+// the laser only when its axis points into that field (seen from the laser's origin).
 // `colors` gives the distance colour scale (min/max distance) and the floor height.
 // Clears `out` first (keeps capacity). Sensors with no echo (+Inf), a failed reading (NaN) or a
 // range outside [min_range_m, max_range_m] draw nothing. `options` must be valid (asserted).
 void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLabel>& laser_points,
-                        const ArFeatureOptions& colors, const SonarFeatureOptions& options,
-                        SonarFeatures* out);
+                        const LaserFieldOfView& laser_fov, const ArFeatureOptions& colors,
+                        const SonarFeatureOptions& options, SonarFeatures* out);
 
 }  // namespace mostar::fusion

@@ -34,12 +34,15 @@ ScanPointLabel LaserPoint(float x, float y) {
   return p;
 }
 
+// The LMS200's 180 degrees ahead.
+constexpr LaserFieldOfView kAhead{static_cast<float>(-kPi / 2), static_cast<float>(kPi / 2)};
+
 SonarFeatures Build(const std::vector<SonarRange>& ranges, const std::vector<ScanPointLabel>& laser,
-                    const SonarFeatureOptions& options = {}) {
+                    const SonarFeatureOptions& options = {}, const LaserFieldOfView& fov = kAhead) {
   SonarRanges ring;
   ring.ranges = ranges;
   SonarFeatures out;
-  BuildSonarFeatures(ring, laser, ArFeatureOptions{}, options, &out);
+  BuildSonarFeatures(ring, laser, fov, ArFeatureOptions{}, options, &out);
   return out;
 }
 
@@ -99,10 +102,41 @@ TEST(SonarFeaturesTest, TheLaserSeeingThroughGlassOrBesideTheConeDoesNotAgree) {
 }
 
 TEST(SonarFeaturesTest, ConeTestWrapsAroundBehindTheRobot) {
-  // A rear sonar (yaw pi) and a laser point behind the robot, just across the +-pi cut.
-  const SonarFeatures f =
-      Build({Sonar(-0.2, 0.0, kPi, 1.0f)}, {LaserPoint(-1.25f, -0.05f), LaserPoint(-1.25f, 0.05f)});
-  EXPECT_FALSE(f.sectors[0].unseen_by_laser);
+  // A 360-degree laser, a rear sonar (yaw pi) and a laser point just across the +-pi cut.
+  const LaserFieldOfView all_around{static_cast<float>(-kPi), static_cast<float>(kPi)};
+  EXPECT_FALSE(Build({Sonar(-0.2, 0.0, kPi, 1.0f)}, {LaserPoint(-1.25f, -0.05f)}, {}, all_around)
+                   .sectors[0]
+                   .unseen_by_laser);
+  EXPECT_FALSE(Build({Sonar(-0.2, 0.0, kPi, 1.0f)}, {LaserPoint(-1.25f, 0.05f)}, {}, all_around)
+                   .sectors[0]
+                   .unseen_by_laser);
+  EXPECT_TRUE(Build({Sonar(-0.2, 0.0, kPi, 1.0f)}, {}, {}, all_around).sectors[0].unseen_by_laser);
+}
+
+TEST(SonarFeaturesTest, SonarsLookingWhereTheLaserCannotAreNotCompared) {
+  // A rear sonar and the LMS200's 180 degrees ahead: a plain sector, never highlighted.
+  const SonarFeatures rear = Build({Sonar(-0.2, 0.0, kPi, 1.0f)}, {});
+  EXPECT_TRUE(rear.sectors[0].has_echo);
+  EXPECT_FALSE(rear.sectors[0].compared);
+  EXPECT_FALSE(rear.sectors[0].unseen_by_laser);
+  EXPECT_TRUE(rear.outlines.empty());
+  EXPECT_FALSE(rear.fans.empty());
+  // No scan known: nothing is compared either.
+  const SonarFeatures no_scan = Build({Sonar(0.2, 0.0, 0.0, 1.0f)}, {}, {}, LaserFieldOfView{});
+  EXPECT_FALSE(no_scan.sectors[0].compared);
+  EXPECT_EQ(no_scan.unseen, 0u);
+}
+
+TEST(SonarFeaturesTest, OnlyTheMainLobeAgrees) {
+  // A glass door ahead and the partition beside it at the same distance, in the cone's outer
+  // part (half cone 14 degrees, main lobe 7): the laser's partition points do not explain the
+  // echo; with the whole cone they would.
+  const std::vector<ScanPointLabel> partition = {LaserPoint(1.2f, 0.2f), LaserPoint(1.2f, -0.2f)};
+  EXPECT_TRUE(Build({Sonar(0.2, 0.0, 0.0, 1.0f)}, partition).sectors[0].unseen_by_laser);
+  SonarFeatureOptions whole_cone;
+  whole_cone.agreement_cone_fraction = 1.f;
+  EXPECT_FALSE(
+      Build({Sonar(0.2, 0.0, 0.0, 1.0f)}, partition, whole_cone).sectors[0].unseen_by_laser);
 }
 
 TEST(SonarFeaturesTest, NoEchoFailedOrOutOfWindowReadingsDrawNothing) {
@@ -125,7 +159,7 @@ TEST(SonarFeaturesTest, DisabledDrawsNothingAndReusedOutputIsCleared) {
   ring.ranges = {Sonar(0.2, 0.0, 0.0, 1.0f)};
   SonarFeatureOptions off;
   off.enabled = false;
-  BuildSonarFeatures(ring, {}, ArFeatureOptions{}, off, &f);
+  BuildSonarFeatures(ring, {}, kAhead, ArFeatureOptions{}, off, &f);
   EXPECT_TRUE(f.fans.empty());
   EXPECT_TRUE(f.outlines.empty());
   EXPECT_TRUE(f.sectors.empty());
@@ -144,6 +178,9 @@ TEST(SonarFeaturesTest, OptionsAreChecked) {
   EXPECT_FALSE(o.IsValid(&error));
   o = {};
   o.laser_agreement_margin_m = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  o = {};
+  o.agreement_cone_fraction = 0;
   EXPECT_FALSE(o.IsValid(&error));
 }
 

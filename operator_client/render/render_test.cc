@@ -138,7 +138,8 @@ TEST_F(RenderTest, SonarSectorLiesOnTheFloorUpToItsEcho) {
   fusion::ArFeatureOptions colors;
   colors.laser_height_m = static_cast<float>(calibration.laser_height_m);
   fusion::SonarFeatures features;
-  fusion::BuildSonarFeatures(ring, {}, colors, fusion::SonarFeatureOptions{}, &features);
+  const fusion::LaserFieldOfView ahead{-1.5708f, 1.5708f};
+  fusion::BuildSonarFeatures(ring, {}, ahead, colors, fusion::SonarFeatureOptions{}, &features);
   ASSERT_EQ(features.unseen, 1u);
   OverlayGeometry overlay;
   overlay.triangles = features.fans;

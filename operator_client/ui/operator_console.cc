@@ -198,7 +198,9 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
   if (sonar_fresh) {
     fusion::ArFeatureOptions colors = options_.ar;
     colors.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
-    fusion::BuildSonarFeatures(*robot.sonar, features->points, colors, options_.sonar, sonar);
+    fusion::LaserFieldOfView fov;  // none without a scan: nothing compared
+    if (scan) fov = {scan->angle_min_rad, scan->angle_max_rad()};
+    fusion::BuildSonarFeatures(*robot.sonar, features->points, fov, colors, options_.sonar, sonar);
   }
   // Possible obstacles the laser missed (NEPs much nearer than the laser point): magenta dots.
   static const std::vector<vision::PossibleObstacle> kNone;
@@ -244,6 +246,8 @@ bool OperatorConsole::Frame() {
   fusion::ArFeatures features;
   fusion::SonarFeatures sonar;
   BuildOverlay(robot, scan, &overlay, &features, &sonar);
+  sonar_echoes_ = sonar.echoes;
+  sonar_unseen_ = sonar.unseen;
 
   for (int e = 0; e < 2; ++e) {
     static const cv::Mat kEmpty;

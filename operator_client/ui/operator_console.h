@@ -92,6 +92,9 @@ class OperatorConsole {
   double FrameTimePercentileMs(double percentile) const;
   // Where the capture-to-screen time of the shown pairs went, stage by stage (robot clock).
   const LatencyTrace& latency() const { return latency_; }
+  // Sonar sectors of the last frame drawn: echoes, and those the laser does not see.
+  size_t sonar_echoes() const { return sonar_echoes_; }
+  size_t sonar_unseen() const { return sonar_unseen_; }
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
@@ -183,6 +186,8 @@ class OperatorConsole {
   // When the render loop first took each recent pair from the receiver: (sequence, time).
   std::deque<std::pair<uint64_t, SteadyTime>> picked_;
   bool show_latency_ = false;
+  size_t sonar_echoes_ = 0;
+  size_t sonar_unseen_ = 0;
   double display_age_ms_ = 0;
 };
 
