@@ -337,6 +337,16 @@ void Lms200Emulator::Transmit(SteadyTime now, int host_baud, std::vector<uint8_t
     const bool heard = b.baud == host_baud;
     out->push_back(heard ? b.byte : static_cast<uint8_t>(byte(rng_)));
     if (b.scan != 0 && !heard) spoiled_scan_ = b.scan;
+    if (b.scan != 0 && b.scan != sending_scan_) {
+      sending_scan_ = b.scan;
+      sending_first_lateness_ = now - b.done;
+    }
+    if (b.scan != 0 && b.last && spoiled_scan_ != b.scan &&
+        (now - b.done) - sending_first_lateness_ > kMaxLineStall) {
+      spoiled_scan_ = b.scan;  // the line paused inside the telegram: not what a scanner sends
+      stalled_.push_back(b.scan - 1);
+      if (stalled_.size() > kIntactScanLog) stalled_.pop_front();
+    }
     if (b.scan != 0 && b.last && spoiled_scan_ != b.scan) {
       intact_.push_back({b.scan - 1, b.done, stream_starts_});
       if (intact_.size() > kIntactScanLog) intact_.pop_front();
@@ -403,6 +413,11 @@ uint64_t Lms200Emulator::stream_starts() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return stream_starts_;
 }
+std::vector<uint64_t> Lms200Emulator::StalledScans() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {stalled_.begin(), stalled_.end()};
+}
+
 std::vector<Lms200Emulator::IntactScan> Lms200Emulator::IntactScans() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return {intact_.begin(), intact_.end()};

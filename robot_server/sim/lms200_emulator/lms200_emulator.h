@@ -22,7 +22,10 @@
 // - fault injection: garbage bytes, CRC errors, truncated telegrams, NAKs, silence, forced
 //   beam error codes;
 // - ground truth for loss tests: every scan telegram that left complete, with a valid CRC and
-//   at the host's rate (`IntactScans`), numbered in the order the scans were taken.
+//   at the host's rate (`IntactScans`), numbered in the order the scans were taken. A telegram
+//   whose bytes left with a pause of more than kMaxLineStall inside it (the emulator's thread
+//   was not scheduled; a real scanner's UART never pauses mid-telegram) is not intact: it is
+//   listed in `StalledScans()` instead.
 // Thread-safe: every public method locks an internal mutex.
 #pragma once
 
@@ -100,6 +103,11 @@ class Lms200Emulator {
   // The last kIntactScanLog intact scans, oldest first.
   std::vector<IntactScan> IntactScans() const;
   static constexpr size_t kIntactScanLog = 4096;
+  // The ids of the last kIntactScanLog scan telegrams left out of IntactScans because the line
+  // paused inside them for more than kMaxLineStall beyond their wire timing (the emulator's
+  // host was overloaded), oldest first. A driver may deliver or drop them.
+  std::vector<uint64_t> StalledScans() const;
+  static constexpr Duration kMaxLineStall = std::chrono::milliseconds(50);
 
  private:
   struct TxByte {
@@ -151,6 +159,10 @@ class Lms200Emulator {
   uint64_t requests_ = 0;
   uint64_t stream_starts_ = 0;
   uint64_t spoiled_scan_ = 0;  // scan id + 1 of a telegram with a byte lost or garbled
+  // The telegram being transmitted (scan id + 1) and how late its first byte left.
+  uint64_t sending_scan_ = 0;
+  Duration sending_first_lateness_{0};
+  std::deque<uint64_t> stalled_;
   std::deque<IntactScan> intact_;
 };
 

@@ -144,6 +144,41 @@ TEST(Lms200EmulatorTest, LogsOnlyScansThatLeftIntactAtTheHostsRate) {
   EXPECT_EQ(h.emulator.scans_sent(), intact.size() + 2 + 8);  // 7-8 turns in 100 ms garbled
 }
 
+// A pause of the emulator's own thread inside a telegram (a real UART never pauses) takes that
+// telegram out of the intact log: a driver that gives up on a partial after a quiet line
+// may rightly drop it.
+TEST(Lms200EmulatorTest, ATelegramTheLinePausedInsideIsStalledNotIntact) {
+  Lms200EmulatorOptions options;
+  options.initial_baud = 500000;
+  options.variant = {180, 100};
+  Harness h(options);
+  h.Send(laser::StartContinuousRequest(), 500000);
+  h.Run(milliseconds(100), 500000);
+  const size_t intact_before = h.emulator.IntactScans().size();
+  ASSERT_GE(intact_before, 5u);
+  EXPECT_TRUE(h.emulator.StalledScans().empty());
+  // Find a moment inside a telegram: bytes are still due after this millisecond's batch.
+  Bytes out;
+  for (int i = 0; i < 20; ++i) {
+    h.t += milliseconds(1);
+    out.clear();
+    const size_t logged = h.emulator.IntactScans().size();
+    h.emulator.Transmit(h.t, 500000, &out);
+    if (!out.empty() && h.emulator.IntactScans().size() == logged) break;
+  }
+  ASSERT_FALSE(out.empty());
+  h.t += milliseconds(120);  // the emulator's thread is not scheduled for 120 ms
+  h.Run(milliseconds(1), 500000);
+  const auto stalled = h.emulator.StalledScans();
+  ASSERT_EQ(stalled.size(), 1u);
+  // Telegrams that were merely late as a whole (queued during the pause) stay intact.
+  h.Run(milliseconds(200), 500000);
+  EXPECT_EQ(h.emulator.StalledScans().size(), 1u);
+  const auto intact = h.emulator.IntactScans();
+  EXPECT_GE(intact.size(), intact_before + 10);
+  for (const auto& scan : intact) EXPECT_NE(scan.id, stalled.front());
+}
+
 TEST(Lms200EmulatorTest, EncodesNoEchoBeyondRangeErrorsAndForcedCodes) {
   Lms200EmulatorOptions options;
   options.initial_baud = 38400;
