@@ -18,6 +18,7 @@
 #include "common/record/recording_writer.h"
 #include "operator_client/client_config.pb.h"
 #include "operator_client/client_options.h"
+#include "operator_client/net/client_inbox.h"
 #include "operator_client/net/operator_node.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/render/stereo_compositor.h"
@@ -163,55 +164,12 @@ int Run(int argc, char** argv) {
   record::RecordingWriter* rec = recorder.get();
   StereoReceiver video(clock);
   RobotState robot(clock);
-  OperatorNode::Callbacks callbacks;
-  callbacks.on_image = [&](Eye eye, const CompressedImage& image) {
-    trace.Add(eye == Eye::kLeft ? "left" : "right", image.stamp, 0);
-    // Arrival time with the capture stamp in the sequence field: the image's age on arrival.
-    if (eye == Eye::kLeft)
-      trace.Add("left_rx", clock->Now(), static_cast<uint64_t>(ToUnixNanos(image.stamp)));
-    if (rec) rec->Write(image, eye);
-    video.Push(eye, image);
-  };
-  callbacks.on_scan = [&](const LaserScan& scan) {
-    trace.Add("scan", scan.stamp, 0);
-    if (rec) rec->Write(scan);
-    robot.AddScan(scan);
-  };
-  callbacks.on_health = [&](const RobotHealth& h) {
-    trace.Add("health", h.stamp, h.last_command_sequence);
-    if (rec) rec->Write(h);
-    robot.SetHealth(h);
-  };
-  callbacks.on_lease = [&](const ControlLease& l) {
-    if (rec) rec->Write(l);
-    robot.SetLease(l);
-  };
-  callbacks.on_odometry = [&](const Odometry& o) {
-    if (rec) rec->Write(o);
-    robot.SetOdometry(o);
-  };
-  callbacks.on_sonar = [&](const SonarRanges& sonar) {
-    if (rec) rec->Write(sonar);
-    robot.SetSonar(sonar);
-  };
-  callbacks.on_bumpers = [&](const BumperState& bumpers) {
-    if (rec) rec->Write(bumpers);
-    robot.SetBumpers(bumpers);
-  };
-  callbacks.on_frame_timing = [&](const FrameTiming& timing) { robot.AddFrameTiming(timing); };
-  callbacks.on_camera_info = [&](Eye eye, const CameraIntrinsicsInfo& info) {
-    robot.SetIntrinsics(eye, info);
-    video.SetExpectedSize(eye, info.width_px, info.height_px);  // larger JPEGs are refused
-  };
-  callbacks.on_pong = [&](const ClockProbe& probe) {
-    if (probe.sender_id != client_id) return;
-    robot.AddClockSample(probe);
-    video.SetClockOffset(robot.Snapshot().clock);  // pairs stamped in the future are refused
-  };
   OperatorNode::Options node_options;
   node_options.client_id = client_id;
   node_options.pilot = console_options.pilot;
-  auto node = OperatorNode::Create(participant.get(), node_options, callbacks, &error);
+  auto node =
+      OperatorNode::Create(participant.get(), node_options,
+                           InboxCallbacks({client_id, clock, &video, &robot, rec, &trace}), &error);
   if (!node) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;

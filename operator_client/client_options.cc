@@ -27,6 +27,7 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
   options->ar.labels_enabled = ar.labels();
   options->ar.label_count = ar.label_count();
   options->sonar.enabled = ar.sonar_sectors();
+  options->sonar.max_age_s = static_cast<float>(ar.sonar_max_age_s());
   if (!options->ar.IsValid(error)) {
     *error = "ar: " + *error;
     return false;

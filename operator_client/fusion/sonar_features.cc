@@ -60,6 +60,9 @@ bool SonarFeatureOptions::IsValid(std::string* error) const {
     return Fail(error, "agreement_cone_fraction must be in (0, 1] (got " +
                            std::to_string(agreement_cone_fraction) + ")");
   }
+  if (!(std::isfinite(max_age_s) && max_age_s > 0.f)) {
+    return Fail(error, "max_age_s must be > 0 (got " + std::to_string(max_age_s) + ")");
+  }
   if (!(std::isfinite(laser_agreement_margin_m) && laser_agreement_margin_m > 0.f)) {
     return Fail(error, "laser_agreement_margin_m must be > 0 (got " +
                            std::to_string(laser_agreement_margin_m) + ")");
@@ -129,6 +132,17 @@ void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLab
       out->outlines.Add(arc_x(k + 1), arc_y(k + 1), floor_z, options.unseen_outline);
     }
   }
+}
+
+bool BuildFreshSonarFeatures(const std::optional<SonarRanges>& cycle, Duration age,
+                             const LaserScan* scan, const std::vector<ScanPointLabel>& laser_points,
+                             const ArFeatureOptions& colors, const SonarFeatureOptions& options,
+                             SonarFeatures* out) {
+  if (!cycle || ToSeconds(age) > options.max_age_s) return false;
+  LaserFieldOfView fov;  // none without a scan: nothing compared
+  if (scan) fov = {scan->angle_min_rad, scan->angle_max_rad()};
+  BuildSonarFeatures(*cycle, laser_points, fov, colors, options, out);
+  return true;
 }
 
 }  // namespace mostar::fusion

@@ -7,9 +7,12 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/time/time.h"
+#include "common/types/laser_scan.h"
 #include "common/types/sonar.h"
 #include "operator_client/fusion/ar_features.h"
 #include "operator_client/fusion/vertex_array.h"
@@ -21,6 +24,9 @@ struct SonarFeatureOptions {
   float sector_alpha = 0.25f;  // [0, 1], sectors the laser agrees with
   float unseen_alpha = 0.55f;  // [0, 1], sectors the laser does not see
   int arc_segments = 12;       // >= 1: segments of each sector's far arc
+  // A belt cycle received longer ago than this (s, > 0) is not drawn: the belt cycles at about
+  // 5 Hz, so an older cycle no longer shows where things are.
+  float max_age_s = 1.0f;
   // An echo counts as seen by the laser when a valid laser point lies inside the central part
   // of the sonar's cone (this fraction of its angle: the main lobe, where an echo mostly comes
   // from; (0, 1]) no farther from the sonar than its echo plus the margin (> 0). Only sonars
@@ -66,5 +72,13 @@ struct LaserFieldOfView {
 void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLabel>& laser_points,
                         const LaserFieldOfView& laser_fov, const ArFeatureOptions& colors,
                         const SonarFeatureOptions& options, SonarFeatures* out);
+
+// The cues of the latest belt cycle, received `age` ago, when there is one and it is fresh
+// (age <= options.max_age_s); false, and `out` untouched, otherwise. `scan`: the scan drawn
+// with it (its field of view; null: none, nothing is compared) and `laser_points` its labels.
+bool BuildFreshSonarFeatures(const std::optional<SonarRanges>& cycle, Duration age,
+                             const LaserScan* scan, const std::vector<ScanPointLabel>& laser_points,
+                             const ArFeatureOptions& colors, const SonarFeatureOptions& options,
+                             SonarFeatures* out);
 
 }  // namespace mostar::fusion

@@ -182,6 +182,39 @@ TEST(SonarFeaturesTest, OptionsAreChecked) {
   o = {};
   o.agreement_cone_fraction = 0;
   EXPECT_FALSE(o.IsValid(&error));
+  o = {};
+  o.max_age_s = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("max_age_s"), std::string::npos);
+}
+
+TEST(SonarFeaturesTest, OnlyAFreshCycleIsDrawnAndOnlyTheScansFieldOfViewIsCompared) {
+  SonarRanges ring;
+  ring.ranges = {Sonar(0.2, 0.0, 0.0, 1.0f), Sonar(-0.2, 0.0, kPi, 1.0f)};  // ahead, behind
+  const SonarFeatureOptions options;                                        // max_age_s 1
+  const ArFeatureOptions colors;
+  SonarFeatures out;
+  out.echoes = 99;  // untouched when nothing is drawn
+  EXPECT_FALSE(BuildFreshSonarFeatures(std::nullopt, {}, nullptr, {}, colors, options, &out));
+  EXPECT_FALSE(BuildFreshSonarFeatures(ring, std::chrono::milliseconds(1500), nullptr, {}, colors,
+                                       options, &out));
+  EXPECT_EQ(out.echoes, 99u);
+  // Without a scan nothing is compared: two echoes, none unseen.
+  ASSERT_TRUE(BuildFreshSonarFeatures(ring, std::chrono::milliseconds(200), nullptr, {}, colors,
+                                      options, &out));
+  EXPECT_EQ(out.echoes, 2u);
+  EXPECT_EQ(out.unseen, 0u);
+  // With a scan ahead that sees nothing there, the front sonar is unseen, the rear one is not
+  // compared.
+  LaserScan scan;
+  scan.angle_min_rad = static_cast<float>(-kPi / 2);
+  scan.angle_increment_rad = static_cast<float>(kPi / 180);
+  scan.ranges_m.assign(181, 8.0f);
+  ASSERT_TRUE(BuildFreshSonarFeatures(ring, std::chrono::milliseconds(200), &scan, {}, colors,
+                                      options, &out));
+  EXPECT_EQ(out.unseen, 1u);
+  EXPECT_TRUE(out.sectors[0].compared);
+  EXPECT_FALSE(out.sectors[1].compared);
 }
 
 }  // namespace

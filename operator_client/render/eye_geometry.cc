@@ -149,4 +149,13 @@ bool StereoGeometry::Update(const math::LaserCameraCalibration& left,
   return true;
 }
 
+bool LoadAlignment(const std::string& path, AlignmentModel* model, EyeAlignment* left,
+                   EyeAlignment* right, std::string* error) {
+  math::LaserCameraCalibration calibration;
+  math::StereoAlignmentProfile alignment;
+  if (!math::LoadCalibrationProfile(path, &calibration, &alignment, error)) return false;
+  FromProfile(alignment, model, left, right);
+  return true;
+}
+
 }  // namespace mostar::render

@@ -112,5 +112,9 @@ math::StereoAlignmentProfile ToProfile(AlignmentModel model, const EyeAlignment&
                                        const EyeAlignment& right);
 void FromProfile(const math::StereoAlignmentProfile& profile, AlignmentModel* model,
                  EyeAlignment* left, EyeAlignment* right);
+// The alignment saved in the calibration profile at `path` (no offsets when it has none);
+// false with a message, and nothing changed, when the file cannot be read.
+bool LoadAlignment(const std::string& path, AlignmentModel* model, EyeAlignment* left,
+                   EyeAlignment* right, std::string* error);
 
 }  // namespace mostar::render

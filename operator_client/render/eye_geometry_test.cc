@@ -1,6 +1,10 @@
 #include "operator_client/render/eye_geometry.h"
 
 #include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cstdio>
 
 namespace mostar::render {
 namespace {
@@ -124,6 +128,30 @@ TEST(EyeGeometryTest, ProfileRoundTrip) {
   EXPECT_EQ(model, AlignmentModel::kPerEyeIntrinsics);
   EXPECT_TRUE(left_back == left);
   EXPECT_TRUE(right_back == right);
+}
+
+TEST(EyeGeometryTest, LoadsTheAlignmentSavedInAProfileAndNothingFromAMissingFile) {
+  char dir[] = "/tmp/eye_geometry_test_XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string path = std::string(dir) + "/profile.pbtxt";
+  EyeAlignment left, right;
+  CropForRightOffset(0.f, -4.f, &left, &right);
+  std::string error;
+  ASSERT_TRUE(math::SaveCalibrationProfile(
+      path, Distorted(), ToProfile(AlignmentModel::kPerEyeIntrinsics, left, right), "test", &error))
+      << error;
+  AlignmentModel model = AlignmentModel::kSharedModel;
+  EyeAlignment left_back, right_back;
+  ASSERT_TRUE(LoadAlignment(path, &model, &left_back, &right_back, &error)) << error;
+  EXPECT_EQ(model, AlignmentModel::kPerEyeIntrinsics);
+  EXPECT_TRUE(right_back == right);
+  EyeAlignment untouched;
+  untouched.offset_y_px = 7;
+  EXPECT_FALSE(LoadAlignment(path + ".missing", &model, &untouched, &untouched, &error));
+  EXPECT_NE(error.find(".missing"), std::string::npos) << error;
+  EXPECT_EQ(untouched.offset_y_px, 7.f);
+  std::remove(path.c_str());
+  ::rmdir(dir);
 }
 
 TEST(StereoGeometryTest, RebuildsOnlyWhenAnInputChanges) {

@@ -32,6 +32,25 @@ TEST(FramePickerTest, ShowsTheLatestPairUntilTheFirstResult) {
   EXPECT_EQ(picker.shown_pair()->sequence, 1u);
 }
 
+TEST(FramePickerTest, DrawsTheCorrectedScanOnlyWithTheResultOfTheShownPair) {
+  FramePicker picker;
+  LaserScan nearest;
+  nearest.ranges_m = {1.0f, 2.0f};
+  EXPECT_EQ(picker.ScanToDraw(nearest)->ranges_m, nearest.ranges_m);  // nothing shown yet
+  EXPECT_FALSE(picker.ScanToDraw(std::nullopt));
+  picker.TakeNew(Pair(1));
+  auto result = std::make_shared<vision::VisionResult>();
+  result->sequence = 1;
+  result->ok = true;
+  result->classification.corrected_scan.ranges_m = {1.5f, 2.5f};
+  picker.OnResult(result, Pair(1));
+  EXPECT_EQ(picker.ScanToDraw(nearest)->ranges_m, result->classification.corrected_scan.ranges_m);
+  // A result without a corrected scan (edge processing found nothing to correct) draws `nearest`.
+  picker.TakeNew(Pair(2));
+  picker.OnResult(Result(2), Pair(2));
+  EXPECT_EQ(picker.ScanToDraw(nearest)->ranges_m, nearest.ranges_m);
+}
+
 TEST(FramePickerTest, TakesEachPairOnce) {
   FramePicker picker;
   EXPECT_FALSE(picker.TakeNew(std::nullopt));

@@ -35,6 +35,14 @@ bool WithRobotIntrinsics(const math::LaserCameraCalibration& calibration,
   return true;
 }
 
+math::LaserCameraCalibration RightEyeCalibration(const math::LaserCameraCalibration& shared,
+                                                 const std::optional<CameraIntrinsicsInfo>& right) {
+  math::LaserCameraCalibration own;
+  std::string error;
+  if (!right || !WithRobotIntrinsics(shared, *right, &own, &error)) return shared;
+  return own;
+}
+
 IntrinsicsAdopter::Result IntrinsicsAdopter::Apply(
     const std::optional<CameraIntrinsicsInfo>& intrinsics,
     math::LaserCameraCalibration* calibration) {

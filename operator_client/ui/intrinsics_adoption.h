@@ -19,6 +19,11 @@ bool WithRobotIntrinsics(const math::LaserCameraCalibration& calibration,
                          const CameraIntrinsicsInfo& k, math::LaserCameraCalibration* out,
                          std::string* error);
 
+// The right eye's calibration with per-eye intrinsics: `shared` with the right camera's own
+// intrinsics when the robot publishes valid ones for this image size, else `shared`.
+math::LaserCameraCalibration RightEyeCalibration(const math::LaserCameraCalibration& shared,
+                                                 const std::optional<CameraIntrinsicsInfo>& right);
+
 // Applies each new set of intrinsics once: a set equal (focal lengths, principal point,
 // distortion) to the last one seen is not looked at again, refused or not.
 class IntrinsicsAdopter {

@@ -43,6 +43,16 @@ TEST(WithRobotIntrinsicsTest, TakesIntrinsicsAndKeepsExtrinsics) {
   EXPECT_EQ(out.laser_height_m, base.laser_height_m);
 }
 
+TEST(WithRobotIntrinsicsTest, TheRightEyeTakesItsOwnValidIntrinsicsElseTheSharedOnes) {
+  const math::LaserCameraCalibration shared = Calibration();
+  EXPECT_EQ(RightEyeCalibration(shared, std::nullopt).fx(), shared.fx());
+  EXPECT_EQ(RightEyeCalibration(shared, Intrinsics(610)).fx(), 610);
+  EXPECT_EQ(RightEyeCalibration(shared, Intrinsics(610)).camera_y_m, shared.camera_y_m);
+  CameraIntrinsicsInfo other_size = Intrinsics(610);
+  other_size.width_px = 1280;
+  EXPECT_EQ(RightEyeCalibration(shared, other_size).fx(), shared.fx());
+}
+
 TEST(WithRobotIntrinsicsTest, RefusesIntrinsicsForAnotherImageSize) {
   CameraIntrinsicsInfo k = Intrinsics(600);
   k.width_px = 1280;

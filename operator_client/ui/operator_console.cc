@@ -5,7 +5,6 @@
 #include "common/check/check.h"
 #include "common/log/log.h"
 #include "common/math/calibration_io.h"
-#include "common/stats/percentile.h"
 #include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
 #include "operator_client/ui/bumper_display.h"
@@ -39,21 +38,15 @@ bool OperatorConsole::Init(std::string* error) {
   ar_builders_.emplace(options_.ar);
   if (!options_.calibration.IsValid(error)) return false;
   // The stereo alignment saved beside the calibration in its profile.
-  if (!options_.calibration_path.empty()) {
-    math::LaserCameraCalibration calibration;
-    math::StereoAlignmentProfile alignment;
-    std::string why;
-    if (math::LoadCalibrationProfile(options_.calibration_path, &calibration, &alignment, &why)) {
-      render::FromProfile(alignment, &options_.alignment_model, &options_.left_alignment,
-                          &options_.right_alignment);
-    } else {
-      MOSTAR_LOG(WARNING) << "stereo alignment not loaded, starting without offsets: " << why;
-    }
+  std::string why;
+  if (!options_.calibration_path.empty() &&
+      !render::LoadAlignment(options_.calibration_path, &options_.alignment_model,
+                             &options_.left_alignment, &options_.right_alignment, &why)) {
+    MOSTAR_LOG(WARNING) << "stereo alignment not loaded, starting without offsets: " << why;
   }
   imgui_ = std::make_unique<ImGuiLayer>(window_->get());
   if (!options_.vision.IsValid(error)) return false;
-  edge_worker_ = std::make_unique<vision::EdgeWorker>(options_.vision);
-  vision_settings_.emplace(options_.vision);
+  vision_ = std::make_unique<ConsoleVision>(options_.vision);
   return true;
 }
 
@@ -121,16 +114,10 @@ std::optional<client::DecodedStereoPair> OperatorConsole::CaptureFilter(
 
 math::LaserCameraCalibration OperatorConsole::EyeCalibration(math::Eye eye,
                                                              const client::RobotSnapshot& robot) {
-  if (options_.alignment_model != render::AlignmentModel::kPerEyeIntrinsics ||
-      eye != math::Eye::kRight || !options_.intrinsics_from_robot || !robot.right_intrinsics) {
-    return options_.calibration;
-  }
-  math::LaserCameraCalibration right;
-  std::string error;
-  if (!WithRobotIntrinsics(options_.calibration, *robot.right_intrinsics, &right, &error)) {
-    return options_.calibration;
-  }
-  return right;
+  const bool own = options_.alignment_model == render::AlignmentModel::kPerEyeIntrinsics &&
+                   eye == math::Eye::kRight && options_.intrinsics_from_robot;
+  return own ? RightEyeCalibration(options_.calibration, robot.right_intrinsics)
+             : options_.calibration;
 }
 
 void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
@@ -142,38 +129,16 @@ void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
   // The calibration without offsets was checked in Init: there is always a geometry.
   MOSTAR_CHECK(geometry_.ready()) << error;
   if (!changed) return;
-  hint_gate_.GeometryChanged(last_submitted_);
-  left_model_ = std::make_shared<const math::CameraModel>(geometry_.eye(0).image);
-  right_model_ = std::make_shared<const math::CameraModel>(geometry_.eye(1).image);
+  vision_->GeometryChanged(std::make_shared<const math::CameraModel>(geometry_.eye(0).image),
+                           std::make_shared<const math::CameraModel>(geometry_.eye(1).image));
 }
 
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
-  if (latest && (picked_.empty() || picked_.back().first != latest->sequence)) {
-    picked_.emplace_back(latest->sequence, clock_->SteadyNow());
-    while (picked_.size() > 16) picked_.pop_front();
-  }
-  if (!options_.vision_enabled) {
-    picker_.ShowUnprocessed(latest);
-    return;
-  }
-  if (picker_.TakeNew(latest)) {
-    vision::VisionInput input;
-    input.stamp = latest->stamp;
-    input.sequence = latest->sequence;
-    input.left = latest->left;
-    input.right = latest->right;
-    if (auto scan = robot_->NearestScan(latest->stamp)) {
-      input.scan = *scan;
-      // The overlay's builder: a live slopeTh edit moves the outliers the edges check too.
-      std::string error;
-      input.potential_outliers = PotentialOutliers(OverlayBuilder(&error), *scan);
-    }
-    input.left_camera = left_model_;
-    input.right_camera = right_model_;
-    last_submitted_ = input.sequence;
-    edge_worker_->Submit(std::move(input));
-  }
-  picker_.OnResult(edge_worker_->LatestResult(), latest);
+  if (latest) tracer_.Picked(latest->sequence, clock_->SteadyNow());
+  std::string error;
+  vision_->Update(
+      latest, options_.vision_enabled, [this](Time stamp) { return robot_->NearestScan(stamp); },
+      OverlayBuilder(&error));
 }
 
 const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* error) {
@@ -192,19 +157,14 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
     OverlayBuilder(&error).Build(*scan, features);
     if (!error.empty()) status_line_ = "AR options: " + error;
   }
-  // The belt cycles at about 5 Hz: a cycle older than a second no longer shows where things are.
-  const bool sonar_fresh =
-      robot.sonar && clock_->SteadyNow() - robot.last_sonar_received < std::chrono::seconds(1);
-  if (sonar_fresh) {
-    fusion::ArFeatureOptions colors = options_.ar;
-    colors.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
-    fusion::LaserFieldOfView fov;  // none without a scan: nothing compared
-    if (scan) fov = {scan->angle_min_rad, scan->angle_max_rad()};
-    fusion::BuildSonarFeatures(*robot.sonar, features->points, fov, colors, options_.sonar, sonar);
-  }
+  fusion::ArFeatureOptions colors = options_.ar;
+  colors.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
+  const bool sonar_fresh = fusion::BuildFreshSonarFeatures(
+      robot.sonar, clock_->SteadyNow() - robot.last_sonar_received, scan ? &*scan : nullptr,
+      features->points, colors, options_.sonar, sonar);
   // Possible obstacles the laser missed (NEPs much nearer than the laser point): magenta dots.
   static const std::vector<vision::PossibleObstacle> kNone;
-  const auto& result = picker_.shown_result();
+  const auto& result = vision_->picker().shown_result();
   fusion::VertexArray predicted;
   if (drive_.enable) {
     fusion::PredictedPathOptions path = options_.path;
@@ -225,23 +185,18 @@ bool OperatorConsole::Frame() {
   }
   HandleInput();
   UpdateVision(CaptureFilter(video_->Latest()));
-  const std::optional<client::DecodedStereoPair>& pair = picker_.shown_pair();
-  const std::shared_ptr<const vision::VisionResult>& result = picker_.shown_result();
+  const std::optional<client::DecodedStereoPair>& pair = vision_->picker().shown_pair();
   const bool new_pair = pair && pair->sequence != last_pair_;
   // A render of the captured pair with its scans and edge result in.
-  const bool capture_render = capture_ && capture_->IsCaptureRender(pair, options_.vision_enabled,
-                                                                    picker_.result_sequence());
+  const bool capture_render =
+      capture_ &&
+      capture_->IsCaptureRender(pair, options_.vision_enabled, vision_->picker().result_sequence());
   if (options_.headless && !new_pair && !capture_render) return false;
   const SteadyTime start = clock_->SteadyNow();
 
   const client::RobotSnapshot robot = robot_->Snapshot();
-  std::optional<LaserScan> scan = pair ? robot_->NearestScan(pair->stamp) : robot.latest_scan;
-  // With an edge result for this very pair, draw the corrected scan (NEP-corrected points,
-  // confirmed outliers removed).
-  if (result && pair && result->sequence == pair->sequence &&
-      !result->classification.corrected_scan.ranges_m.empty()) {
-    scan = result->classification.corrected_scan;
-  }
+  const std::optional<LaserScan> scan =
+      vision_->picker().ScanToDraw(pair ? robot_->NearestScan(pair->stamp) : robot.latest_scan);
   render::OverlayGeometry overlay;
   fusion::ArFeatures features;
   fusion::SonarFeatures sonar;
@@ -270,70 +225,20 @@ bool OperatorConsole::Frame() {
     if (options_.headless && options_.keep_last_frame) {
       last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
     }
-    // Capture-to-display age, on the robot's clock when the offset is known.
-    Time now = clock_->Now();
-    if (robot.clock.known) now = robot.clock.ToResponderTime(now);
-    display_age_ms_ = ToSeconds(now - pair->stamp) * 1e3;
-    if (display_ages_ms_.size() < 100000) display_ages_ms_.push_back(display_age_ms_);
   }
   if (capture_render && capture_->CountRender()) last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
   window_->SwapBuffers();
   glFinish();  // presented: the frame is on screen, not queued in the driver
   const SteadyTime presented = clock_->SteadyNow();
-  if (new_pair) TracePair(*pair, robot, start, drawn, presented);
   frame_time_ms_ = ToSeconds(presented - start) * 1e3;
-  if (new_pair && frame_times_ms_.size() < 100000) frame_times_ms_.push_back(frame_time_ms_);
+  if (new_pair) {
+    const RobotTimeMapper to_robot(clock_->Now(), clock_->SteadyNow(), robot.clock);
+    shown_.Add(ToSeconds(to_robot(drawn) - pair->stamp) * 1e3, frame_time_ms_);  // capture to drawn
+    latency_.Add(tracer_.Timeline({pair->sequence, pair->stamp, pair->received, pair->decoded},
+                                  robot_->TimingOf(pair->stamp), {start, drawn, presented},
+                                  options_.vision_enabled, to_robot));
+  }
   return new_pair;
-}
-
-Time OperatorConsole::ToRobotTime(SteadyTime t, const client::RobotSnapshot& robot) const {
-  const Time local = clock_->Now() - (clock_->SteadyNow() - t);
-  return robot.clock.known ? robot.clock.ToResponderTime(local) : local;
-}
-
-void OperatorConsole::TracePair(const client::DecodedStereoPair& pair,
-                                const client::RobotSnapshot& robot, SteadyTime frame_start,
-                                SteadyTime drawn, SteadyTime presented) {
-  PairTimeline timeline;
-  timeline.capture = pair.stamp;
-  if (const std::optional<FrameTiming> timing = robot_->TimingOf(pair.stamp)) {
-    timeline.Set(LatencyStage::kEncoded, timing->encoded);
-    timeline.Set(LatencyStage::kWritten, timing->written);
-  }
-  timeline.Set(LatencyStage::kReceived, ToRobotTime(pair.received, robot));
-  timeline.Set(LatencyStage::kDecoded, ToRobotTime(pair.decoded, robot));
-  std::optional<Time> picked;
-  for (const auto& [sequence, at] : picked_) {
-    if (sequence == pair.sequence) picked = ToRobotTime(at, robot);
-  }
-  if (picked) timeline.Set(LatencyStage::kPicked, *picked);
-  // With edge processing on, the pair is shown in the first frame that has its result.
-  if (options_.vision_enabled) {
-    timeline.Set(LatencyStage::kVision, ToRobotTime(frame_start, robot));
-  } else if (picked) {
-    timeline.Set(LatencyStage::kVision, *picked);
-  }
-  timeline.Set(LatencyStage::kDrawn, ToRobotTime(drawn, robot));
-  timeline.Set(LatencyStage::kPresented, ToRobotTime(presented, robot));
-  latency_.Add(timeline);
-}
-
-double OperatorConsole::DisplayAgePercentileMs(double percentile) const {
-  return Percentile(display_ages_ms_, percentile / 100.0).value_or(0.0);
-}
-
-double OperatorConsole::FrameTimePercentileMs(double percentile) const {
-  return Percentile(frame_times_ms_, percentile / 100.0).value_or(0.0);
-}
-
-std::optional<StereoOffsetHint> OperatorConsole::OffsetHint() const {
-  const std::shared_ptr<const vision::VisionResult>& result = picker_.shown_result();
-  if (!result || !result->ok || !result->stereo) return std::nullopt;
-  const vision::StereoOffsetEstimate& estimate = result->nesc.offset;
-  return hint_gate_.Hint(
-      result->sequence, estimate,
-      render::SuggestedRightOffsetY(geometry_.eye(0), geometry_.eye(1), options_.left_alignment,
-                                    estimate.vertical_offset_px));
 }
 
 void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
@@ -349,7 +254,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     HudStatus hud;
     hud.has_pair = pair.has_value();
     if (pair) hud.pair_received = pair->received;
-    hud.display_age_ms = display_age_ms_;
+    hud.display_age_ms = shown_.last_display_age_ms();
     hud.frame_time_ms = frame_time_ms_;
     hud.mode = options_.mode;
     hud.client_id = options_.client_id;
@@ -373,20 +278,20 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
                          {&options_.show_calibration_panel, &options_.calibration, &options_.ar,
                           &options_.left_alignment, &options_.right_alignment,
                           &options_.alignment_model, &options_.mode, &status_line_},
-                         OffsetHint());
+                         vision_->OffsetHint([this](double residual_px) {
+                           return render::SuggestedRightOffsetY(geometry_.eye(0), geometry_.eye(1),
+                                                                options_.left_alignment,
+                                                                residual_px);
+                         }));
   }
   if (show_edge_view_) {
     const std::optional<VisionSettings> next =
-        edge_view_.Draw(picker_.shown_result().get(), *vision_settings_,
+        edge_view_.Draw(vision_->picker().shown_result().get(), vision_->settings(),
                         VisionSettingsPath(options_.calibration_path), &show_edge_view_,
                         &options_.vision_enabled, &status_line_);
     std::string error;
-    if (next && edge_worker_->SetOptions(next->options(), &error)) {
-      vision_settings_ = next;
-      options_.vision = next->options();
-    } else if (next) {
-      status_line_ = "edges: " + error;
-    }
+    if (next && vision_->ApplySettings(*next, &error)) options_.vision = next->options();
+    if (next && !error.empty()) status_line_ = "edges: " + error;
   }
   if (show_latency_) DrawLatencyPanel(latency_, &show_latency_);
   if (show_help_) DrawHelpPanel(&show_help_);

@@ -1,14 +1,13 @@
 // The operator console: one render loop that shows the latest stereo pair with the AR overlay
 // built from the scan nearest in time, the HUD, the bird's-eye laser map, the calibration and
-// display panels, and turns keyboard/gamepad input into drive requests. It wires the pure
-// parts (LeaseClient, IntrinsicsAdopter, FramePicker, PairCapture, ArBuilderCache) to the
-// devices, the renderer and the panels (ui/panels).
+// display panels, and turns keyboard/gamepad input into drive requests. It wires the tested
+// parts (LeaseClient, IntrinsicsAdopter, ConsoleVision, PairCapture, ArBuilderCache, PairTracer,
+// ShownPairStats) to the devices, the renderer and the panels (ui/panels).
 //
 // Render thread only. It never waits on the network or on JPEG decoding: it takes the latest
 // decoded pair from StereoReceiver and the latest robot state from RobotState.
 #pragma once
 
-#include <deque>
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
@@ -24,6 +23,7 @@
 #include "operator_client/ui/ar_builder_cache.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/console_input.h"
+#include "operator_client/ui/console_vision.h"
 #include "operator_client/ui/drive_input.h"
 #include "operator_client/ui/frame_picker.h"
 #include "operator_client/ui/imgui_layer.h"
@@ -31,7 +31,9 @@
 #include "operator_client/ui/latency_trace.h"
 #include "operator_client/ui/lease_client.h"
 #include "operator_client/ui/pair_capture.h"
+#include "operator_client/ui/pair_tracer.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
+#include "operator_client/ui/shown_pair_stats.h"
 #include "operator_client/ui/stereo_hint.h"
 #include "operator_client/ui/vision_settings.h"
 #include "operator_client/ui/window.h"
@@ -88,8 +90,12 @@ class OperatorConsole {
   uint64_t rendered_pairs() const { return rendered_pairs_; }
   // Percentile (0..100) of the capture-to-display age and of the render time of frames that
   // showed a new pair, in ms; 0 when none.
-  double DisplayAgePercentileMs(double percentile) const;
-  double FrameTimePercentileMs(double percentile) const;
+  double DisplayAgePercentileMs(double percentile) const {
+    return shown_.DisplayAgePercentileMs(percentile);
+  }
+  double FrameTimePercentileMs(double percentile) const {
+    return shown_.FrameTimePercentileMs(percentile);
+  }
   // Where the capture-to-screen time of the shown pairs went, stage by stage (robot clock).
   const LatencyTrace& latency() const { return latency_; }
   // Sonar sectors of the last frame drawn: echoes, and those the laser does not see.
@@ -122,7 +128,7 @@ class OperatorConsole {
   // Rebuilds both eyes' geometry when the calibration, the alignment or its model changed; an
   // invalid combination keeps the previous geometry and says why on the status line.
   void RefreshGeometry(const client::RobotSnapshot& robot);
-  // Hands the new pair to the edge worker and picks the pair (and result) to display.
+  // Notes when the pair was picked and runs ConsoleVision's tick.
   void UpdateVision(const std::optional<client::DecodedStereoPair>& latest);
   // The AR builder of the overlay's current options (the configured one, with `error`, when
   // they are invalid); rebuilt only when they change.
@@ -132,13 +138,6 @@ class OperatorConsole {
   void BuildOverlay(const client::RobotSnapshot& robot, const std::optional<LaserScan>& scan,
                     render::OverlayGeometry* overlay, fusion::ArFeatures* features,
                     fusion::SonarFeatures* sonar);
-  // NESC's vertical offset suggestion from the shown edge result, when current.
-  std::optional<StereoOffsetHint> OffsetHint() const;
-  // The robot-clock instant of `t` on this machine's monotonic clock (offset-corrected when the
-  // offset to the robot is known).
-  Time ToRobotTime(SteadyTime t, const client::RobotSnapshot& robot) const;
-  void TracePair(const client::DecodedStereoPair& pair, const client::RobotSnapshot& robot,
-                 SteadyTime frame_start, SteadyTime drawn, SteadyTime presented);
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,
                   const fusion::SonarFeatures& sonar,
                   const std::optional<client::DecodedStereoPair>& pair, int fb_w, int fb_h);
@@ -160,18 +159,12 @@ class OperatorConsole {
   LeaseClient lease_;
   IntrinsicsAdopter intrinsics_;
 
-  std::unique_ptr<vision::EdgeWorker> edge_worker_;
   // Each eye's image and display models (eye_geometry.h); the image models are shared with the
   // edge worker (its ray cache) until the geometry changes.
-  render::StereoGeometry geometry_;  // both eyes, rebuilt when an input changes
-  std::shared_ptr<const math::CameraModel> left_model_;
-  std::shared_ptr<const math::CameraModel> right_model_;
-  uint64_t last_submitted_ = 0;  // sequence of the last pair handed to the edge worker
-  StereoHintGate hint_gate_;
-  FramePicker picker_;
+  render::StereoGeometry geometry_;        // both eyes, rebuilt when an input changes
+  std::unique_ptr<ConsoleVision> vision_;  // from Init()
   std::optional<PairCapture> capture_;
 
-  std::optional<VisionSettings> vision_settings_;  // from Init(); = options_.vision
   EdgeViewPanel edge_view_;
   bool show_edge_view_ = false;
   bool show_help_ = false;
@@ -180,15 +173,12 @@ class OperatorConsole {
   uint64_t rendered_pairs_ = 0;
   cv::Mat last_frame_;
   double frame_time_ms_ = 0;
-  std::vector<double> display_ages_ms_;  // per shown pair
-  std::vector<double> frame_times_ms_;   // per frame that showed a new pair
+  ShownPairStats shown_;
   LatencyTrace latency_;
-  // When the render loop first took each recent pair from the receiver: (sequence, time).
-  std::deque<std::pair<uint64_t, SteadyTime>> picked_;
+  PairTracer tracer_;  // when the render loop first took each recent pair
   bool show_latency_ = false;
   size_t sonar_echoes_ = 0;
   size_t sonar_unseen_ = 0;
-  double display_age_ms_ = 0;
 };
 
 }  // namespace mostar::ui

@@ -1,0 +1,68 @@
+// Edge processing for the console (thesis 8, 9.2): hands each new decoded pair, with the scan
+// nearest in time and the overlay's potential outliers, to the edge worker; picks the pair and
+// result to show (FramePicker); gives NESC's vertical offset hint while it is current; takes
+// the edge view's live settings. Render thread only; never waits for the worker. No GL.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/math/camera_model.h"
+#include "common/types/laser_scan.h"
+#include "operator_client/fusion/ar_features.h"
+#include "operator_client/ui/frame_picker.h"
+#include "operator_client/ui/stereo_hint.h"
+#include "operator_client/ui/vision_settings.h"
+#include "operator_client/video/stereo_receiver.h"
+#include "operator_client/vision/edge_worker.h"
+
+namespace mostar::ui {
+
+class ConsoleVision {
+ public:
+  // The scan nearest in time to a capture stamp (robot clock), when there is one.
+  using NearestScan = std::function<std::optional<LaserScan>(Time stamp)>;
+
+  // `options` must be valid (VisionOptions::IsValid).
+  explicit ConsoleVision(const vision::VisionOptions& options);
+  // Runs `process` instead of the pipeline (tests); settings changes are then refused.
+  ConsoleVision(const vision::VisionOptions& options, vision::EdgeWorker::ProcessFunction process);
+
+  // The eyes' image models changed (calibration, alignment): pairs from now on use these, and a
+  // hint from a pair handed over before the change is stale.
+  void GeometryChanged(std::shared_ptr<const math::CameraModel> left,
+                       std::shared_ptr<const math::CameraModel> right);
+
+  // One render tick. `enabled` false: the latest pair is shown as it is. Else a new pair goes to
+  // the worker with its nearest scan and `outliers_of` that scan's potential-outlier labels
+  // (the overlay's builder, so a live slopeTh edit moves what edges confirm), and the shown
+  // pair follows the results.
+  void Update(const std::optional<client::DecodedStereoPair>& latest, bool enabled,
+              const NearestScan& nearest_scan, const fusion::ArFeatureBuilder& outliers_of);
+
+  const FramePicker& picker() const { return picker_; }
+
+  // NESC's vertical offset suggestion from the shown result, when it is stereo, valid and
+  // computed with the current geometry. `suggest` turns NESC's residual (px) into the right
+  // eye's offset (render::SuggestedRightOffsetY).
+  std::optional<StereoOffsetHint> OffsetHint(
+      const std::function<float(double residual_px)>& suggest) const;
+
+  const VisionSettings& settings() const { return settings_; }
+  // The edge view's new settings for the pairs handed over from now on; false with a message,
+  // and the current ones kept, when the worker refuses them.
+  bool ApplySettings(const VisionSettings& next, std::string* error);
+
+ private:
+  vision::EdgeWorker worker_;
+  VisionSettings settings_;
+  std::shared_ptr<const math::CameraModel> left_model_;  // shared with the worker's ray cache
+  std::shared_ptr<const math::CameraModel> right_model_;
+  uint64_t last_submitted_ = 0;  // sequence of the last pair handed to the worker
+  StereoHintGate hint_gate_;
+  FramePicker picker_;
+};
+
+}  // namespace mostar::ui

@@ -1,0 +1,137 @@
+#include "operator_client/ui/console_vision.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "operator_client/fusion/test_scenes.h"
+
+namespace mostar::ui {
+namespace {
+
+using std::chrono::seconds;
+
+client::DecodedStereoPair Pair(uint64_t sequence) {
+  client::DecodedStereoPair pair;
+  pair.sequence = sequence;
+  pair.stamp = FromUnixNanos(static_cast<int64_t>(sequence) * 40'000'000);
+  return pair;
+}
+
+// Records what the worker was handed and answers with a stereo result whose NESC residual is
+// 4 px.
+struct FakeProcess {
+  std::mutex mutex;
+  std::vector<vision::VisionInput> inputs;
+  std::atomic<int> calls{0};
+
+  vision::EdgeWorker::ProcessFunction Function() {
+    return [this](const vision::VisionInput& input, vision::VisionResult* result) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        inputs.push_back(input);
+      }
+      result->stamp = input.stamp;
+      result->sequence = input.sequence;
+      result->ok = true;
+      result->stereo = true;
+      result->nesc.offset.valid = true;
+      result->nesc.offset.vertical_offset_px = 4.0;
+      result->nesc.offset.samples = 20;
+      ++calls;
+    };
+  }
+};
+
+// Polls until the worker's result for `sequence` is shown (bounded).
+bool ShowResult(ConsoleVision* vision, const client::DecodedStereoPair& pair,
+                const ConsoleVision::NearestScan& nearest, const fusion::ArFeatureBuilder& b) {
+  for (int i = 0; i < 2000; ++i) {
+    vision->Update(pair, true, nearest, b);
+    const auto& shown = vision->picker().shown_result();
+    if (shown && shown->sequence == pair.sequence) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
+}
+
+TEST(ConsoleVisionTest, HandsEachNewPairOverOnceWithItsNearestScanModelsAndOutlierLabels) {
+  FakeProcess fake;
+  ConsoleVision vision(vision::VisionOptions{}, fake.Function());
+  auto left =
+      std::make_shared<const math::CameraModel>(math::LaserCameraCalibration{}, math::kMonoCamera);
+  auto right =
+      std::make_shared<const math::CameraModel>(math::LaserCameraCalibration{}, math::kMonoCamera);
+  vision.GeometryChanged(left, right);
+  fusion::testing::Scene wall;
+  wall.segments.push_back({3.0, -6.0, 3.0, 6.0});
+  const LaserScan scan = fusion::testing::MakeScan(wall, 181);
+  std::vector<Time> asked;
+  const ConsoleVision::NearestScan nearest = [&](Time stamp) -> std::optional<LaserScan> {
+    asked.push_back(stamp);
+    return scan;
+  };
+  const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
+  ASSERT_TRUE(ShowResult(&vision, Pair(1), nearest, builder));
+  ASSERT_EQ(fake.calls.load(), 1);  // taken once however many ticks it took
+  std::lock_guard<std::mutex> lock(fake.mutex);
+  const vision::VisionInput& input = fake.inputs.front();
+  EXPECT_EQ(input.sequence, 1u);
+  ASSERT_EQ(asked.size(), 1u);
+  EXPECT_EQ(asked.front(), Pair(1).stamp);
+  EXPECT_EQ(input.scan.ranges_m, scan.ranges_m);
+  EXPECT_EQ(input.potential_outliers.size(), scan.ranges_m.size());
+  EXPECT_EQ(input.left_camera, left);
+  EXPECT_EQ(input.right_camera, right);
+}
+
+TEST(ConsoleVisionTest, DisabledShowsTheLatestPairWithoutTheWorker) {
+  FakeProcess fake;
+  ConsoleVision vision(vision::VisionOptions{}, fake.Function());
+  const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
+  vision.Update(
+      Pair(5), false, [](Time) { return std::optional<LaserScan>(); }, builder);
+  ASSERT_TRUE(vision.picker().shown_pair());
+  EXPECT_EQ(vision.picker().shown_pair()->sequence, 5u);
+  EXPECT_EQ(fake.calls.load(), 0);
+}
+
+TEST(ConsoleVisionTest, TheOffsetHintIsStaleAfterAGeometryChangeUntilANewPairIsProcessed) {
+  FakeProcess fake;
+  ConsoleVision vision(vision::VisionOptions{}, fake.Function());
+  const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
+  const auto none = [](Time) { return std::optional<LaserScan>(); };
+  const auto suggest = [](double residual_px) { return static_cast<float>(-residual_px); };
+  ASSERT_TRUE(ShowResult(&vision, Pair(1), none, builder));
+  std::optional<StereoOffsetHint> hint = vision.OffsetHint(suggest);
+  ASSERT_TRUE(hint.has_value());
+  EXPECT_FLOAT_EQ(hint->suggested_right_offset_y_px, -4.f);
+  vision.GeometryChanged(nullptr, nullptr);  // e.g. the offset was applied
+  EXPECT_FALSE(vision.OffsetHint(suggest).has_value());
+  ASSERT_TRUE(ShowResult(&vision, Pair(2), none, builder));
+  EXPECT_TRUE(vision.OffsetHint(suggest).has_value());
+}
+
+TEST(ConsoleVisionTest, SettingsTheWorkerRefusesAreNotTaken) {
+  FakeProcess fake;  // a custom process refuses every options change
+  ConsoleVision vision(vision::VisionOptions{}, fake.Function());
+  VisionSettings next(vision::VisionOptions{});
+  std::string error;
+  ASSERT_TRUE(next.SetEdgeThreshold(0.2, &error)) << error;
+  EXPECT_FALSE(vision.ApplySettings(next, &error));
+  EXPECT_FALSE(error.empty());
+  EXPECT_NE(vision.settings().options().classifier.edge_threshold_m,
+            next.options().classifier.edge_threshold_m);
+
+  ConsoleVision real(vision::VisionOptions{});
+  EXPECT_TRUE(real.ApplySettings(next, &error)) << error;
+  EXPECT_EQ(real.settings().options().classifier.edge_threshold_m,
+            next.options().classifier.edge_threshold_m);
+}
+
+}  // namespace
+}  // namespace mostar::ui
