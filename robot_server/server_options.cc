@@ -25,6 +25,10 @@ void ApplyFlags(const ServerFlags& flags, ServerConfig* config) {
     laser_replay->set_file(file);
     laser_replay->set_rate(flags.replay_rate);
     laser_replay->set_loop(flags.replay_loop);
+    BeltsReplayConfig* belts = config->mutable_belts_replay();
+    belts->set_file(file);
+    belts->set_rate(flags.replay_rate);
+    belts->set_loop(flags.replay_loop);
   }
   if (flags.insecure) config->mutable_dds()->set_insecure(true);
   if (!flags.state_dir.empty()) {

@@ -200,16 +200,16 @@ TEST(ReplayScanSourceTest, GivesScansInOrderAndOnlyWhenDue) {
   EXPECT_EQ(source.PeekTime(), T0());
   TimedScan scan;
   ASSERT_TRUE(source.NextUntil(T0() + milliseconds(150), &scan));
-  EXPECT_EQ(scan.scan.sequence, 0u);
+  EXPECT_EQ(scan.value.sequence, 0u);
   ASSERT_TRUE(source.NextUntil(T0() + milliseconds(150), &scan));
-  EXPECT_EQ(scan.scan.sequence, 1u);
+  EXPECT_EQ(scan.value.sequence, 1u);
   EXPECT_FALSE(source.NextUntil(T0() + milliseconds(150), &scan));
   ASSERT_TRUE(source.Next(&scan));
-  EXPECT_EQ(scan.scan.sequence, 2u);
+  EXPECT_EQ(scan.value.sequence, 2u);
   EXPECT_EQ(scan.log_time, T0() + milliseconds(200));
   ASSERT_TRUE(source.SeekToTime(T0() + milliseconds(50)));
   ASSERT_TRUE(source.Next(&scan));
-  EXPECT_EQ(scan.scan.sequence, 1u);
+  EXPECT_EQ(scan.value.sequence, 1u);
 }
 
 TEST(ReplayFrameSourceTest, PairsEyesByStampInEitherOrderAndDropsOrphans) {

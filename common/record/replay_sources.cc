@@ -5,43 +5,6 @@
 
 namespace mostar::record {
 
-ReplayScanSource::ReplayScanSource(std::unique_ptr<RecordStream> stream)
-    : stream_(std::move(stream)) {}
-
-bool ReplayScanSource::Fill() {
-  if (next_.has_value()) return true;
-  RecordedMessage message;
-  while (stream_->Next(&message)) {
-    if (auto* scan = std::get_if<LaserScan>(&message.payload)) {
-      next_ = TimedScan{message.log_time, std::move(*scan)};
-      return true;
-    }
-  }
-  return false;
-}
-
-bool ReplayScanSource::Next(TimedScan* scan) {
-  if (!Fill()) return false;
-  *scan = std::move(*next_);
-  next_.reset();
-  return true;
-}
-
-bool ReplayScanSource::NextUntil(Time until, TimedScan* scan) {
-  if (!Fill() || next_->log_time > until) return false;
-  return Next(scan);
-}
-
-std::optional<Time> ReplayScanSource::PeekTime() {
-  if (!Fill()) return std::nullopt;
-  return next_->log_time;
-}
-
-bool ReplayScanSource::SeekToTime(Time t) {
-  next_.reset();
-  return stream_->SeekToTime(t) && Fill();
-}
-
 ReplayFrameSource::ReplayFrameSource(std::unique_ptr<RecordStream> stream)
     : stream_(std::move(stream)) {}
 

@@ -1,48 +1,81 @@
-// Per-topic views of a recording for replay backends: the laser replay backend reads scans,
-// the camera replay backend reads stereo pairs, each from its own RecordStream (open the file
-// once per backend) and each paced by its own ReplayClock.
+// Per-topic views of a recording for replay backends: the laser, sonar and bumper replay
+// backends read their records, the camera replay backend reads stereo pairs, each from its own
+// RecordStream (open the file once per backend) and each paced by its own ReplayClock.
 #pragma once
 
 #include <cstdint>
 #include <deque>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <variant>
 
 #include "common/record/recording_format.h"
 
 namespace mostar::record {
-
-struct TimedScan {
-  Time log_time;  // when it was recorded: pace replay with it
-  LaserScan scan;
-};
 
 struct TimedStereoPair {
   Time log_time;  // the later of the two eyes' log times
   CompressedStereoPair pair;
 };
 
-// The scans of a recording, in file order. Not thread-safe.
-class ReplayScanSource {
- public:
-  explicit ReplayScanSource(std::unique_ptr<RecordStream> stream);
+// One record of a recording with the time it was recorded.
+template <typename T>
+struct Timed {
+  Time log_time;  // when it was recorded: pace replay with it
+  T value;
+};
 
-  // The next scan; false at the end of the stream.
-  bool Next(TimedScan* scan);
-  // The next scan if its log time is <= `until` (e.g. ReplayClock::RecordingNow()); false if
+// The records of one kind (LaserScan, SonarRanges, BumperState, ...: a RecordPayload
+// alternative) of a recording, in file order; the others are skipped. Not thread-safe.
+template <typename T>
+class ReplayTopicSource {
+ public:
+  explicit ReplayTopicSource(std::unique_ptr<RecordStream> stream) : stream_(std::move(stream)) {}
+
+  // The next record; false at the end of the stream.
+  bool Next(Timed<T>* out) {
+    if (!Fill()) return false;
+    *out = std::move(*next_);
+    next_.reset();
+    return true;
+  }
+  // The next record if its log time is <= `until` (e.g. ReplayClock::RecordingNow()); false if
   // none is due yet (it stays next) or at the end.
-  bool NextUntil(Time until, TimedScan* scan);
-  // Log time of the next scan; nullopt at the end.
-  std::optional<Time> PeekTime();
-  // Positions before the first scan with log_time >= t (Time::min() = rewind).
-  bool SeekToTime(Time t);
+  bool NextUntil(Time until, Timed<T>* out) {
+    if (!Fill() || next_->log_time > until) return false;
+    return Next(out);
+  }
+  // Log time of the next record; nullopt at the end.
+  std::optional<Time> PeekTime() {
+    if (!Fill()) return std::nullopt;
+    return next_->log_time;
+  }
+  // Positions before the first record with log_time >= t (Time::min() = rewind).
+  bool SeekToTime(Time t) {
+    next_.reset();
+    return stream_->SeekToTime(t) && Fill();
+  }
 
  private:
-  bool Fill();
+  bool Fill() {
+    if (next_.has_value()) return true;
+    RecordedMessage message;
+    while (stream_->Next(&message)) {
+      if (T* value = std::get_if<T>(&message.payload)) {
+        next_ = Timed<T>{message.log_time, std::move(*value)};
+        return true;
+      }
+    }
+    return false;
+  }
 
   std::unique_ptr<RecordStream> stream_;
-  std::optional<TimedScan> next_;
+  std::optional<Timed<T>> next_;
 };
+
+using TimedScan = Timed<LaserScan>;
+using ReplayScanSource = ReplayTopicSource<LaserScan>;
 
 // The stereo pairs of a recording, in file order. Left and right eyes are paired by identical
 // capture stamp; an eye whose partner does not follow within kMaxPendingEyes image records is

@@ -13,6 +13,7 @@
 #include "robot_server/drive/serial_drive_motors.h"
 #include "robot_server/laser/lms200_scanner.h"
 #include "robot_server/replay/replay_laser_scanner.h"
+#include "robot_server/replay/replay_sonar.h"
 #include "robot_server/replay/replay_stereo_camera.h"
 #include "robot_server/replay/replay_timeline.h"
 #include "robot_server/sim/scene.h"
@@ -40,6 +41,10 @@ bool ReplaysCamera(const ServerConfig& config) {
   return config.camera().backend() == camera::CameraConfig::REPLAY;
 }
 bool ReplaysLaser(const ServerConfig& config) { return !config.laser().replay().file().empty(); }
+bool ReplaysBelts(const ServerConfig& config) {
+  return !config.belts_replay().file().empty() && config.source() == ServerConfig::SIM &&
+         (config.sonar().sensors_size() > 0 || config.bumpers().backend() != BumperConfig::NONE);
+}
 
 // Built-in video sources (test pattern, simulator): the bitrate control of `camera.bitrate` when
 // the configuration has one (e.g. a WAN target), else the defaults; JPEG quality starts at
@@ -156,8 +161,8 @@ bool MakeHardwareDevices(const ServerConfig& config, const std::string& config_d
   return true;
 }
 
-// The replay backends in place of the source's camera and laser. Both replays of one file
-// share a timeline (and must agree on its rate and loop).
+// The replay backends in place of the source's camera, laser and belts. The replays of one
+// file share a timeline (and must agree on its rate and loop).
 bool MakeReplayDevices(const ServerConfig& config, const std::string& config_dir,
                        const Clock* clock, RobotDevices* devices, std::string* error) {
   std::map<std::string, std::shared_ptr<replay::ReplayTimeline>> timelines;
@@ -169,7 +174,7 @@ bool MakeReplayDevices(const ServerConfig& config, const std::string& config_dir
     auto it = timelines.find(options->path);
     if (it != timelines.end()) {
       if (it->second->options().rate != rate || it->second->options().loop != loop) {
-        *error = key + ": camera.replay and laser.replay of " + options->path +
+        *error = key + ": the replays (camera, laser, belts) of " + options->path +
                  " must have the same rate and loop";
         return false;
       }
@@ -208,6 +213,27 @@ bool MakeReplayDevices(const ServerConfig& config, const std::string& config_dir
     devices->owned_laser = std::make_unique<replay::ReplayLaserScanner>(options);
     MOSTAR_LOG(INFO) << "laser: replaying " << options.path << " at " << r.rate() << "x"
                      << (r.loop() ? ", looping" : "");
+  }
+  if (ReplaysBelts(config)) {
+    const BeltsReplayConfig& r = config.belts_replay();
+    replay::ReplayDeviceOptions options;
+    if (!replay_device("belts_replay.file", r.file(), r.rate(), r.loop(), &options)) return false;
+    if (config.sonar().sensors_size() > 0) {
+      replay::ReplaySonarRing::Options sonar;
+      static_cast<replay::ReplayDeviceOptions&>(sonar) = options;
+      devices->sim_sonar.reset();
+      devices->owned_sonar = std::make_unique<replay::ReplaySonarRing>(sonar);
+    }
+    if (config.bumpers().backend() != BumperConfig::NONE) {
+      replay::ReplayBumperBelt::Options bumpers;
+      static_cast<replay::ReplayDeviceOptions&>(bumpers) = options;
+      bumpers.segments = devices->bumpers ? devices->bumpers->segments() : 16;
+      std::string why;
+      devices->bumpers = std::make_unique<replay::ReplayBumperBelt>(bumpers, &why);
+      if (!why.empty()) MOSTAR_LOG(ERROR) << "bumpers: replay: " << why;
+    }
+    MOSTAR_LOG(INFO) << "sonar and bumper belts: replaying " << options.path << " at " << r.rate()
+                     << "x" << (r.loop() ? ", looping" : "");
   }
   return true;
 }
@@ -292,6 +318,8 @@ bool CheckReplayIsNotOnHardware(const ServerConfig& config, std::string* error) 
   if (ReplaysLaser(config)) replayed = "laser.replay.file";
   if (ReplaysCamera(config))
     replayed += (replayed.empty() ? "" : " and ") + std::string("camera.backend REPLAY");
+  if (!config.belts_replay().file().empty())
+    replayed += (replayed.empty() ? "" : " and ") + std::string("belts_replay.file");
   if (replayed.empty()) return true;
   *error = "sensor replay (" + replayed +
            ", or --replay-sensors) is refused with source HARDWARE: recorded scans and images "

@@ -4,9 +4,14 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
+#include "common/record/recording_writer.h"
+#include "common/record/test_records.h"
 #include "common/time/fake_clock.h"
+#include "robot_server/replay/replay_laser_scanner.h"
+#include "robot_server/replay/replay_sonar.h"
 #include "robot_server/server_options.h"
 #include "robot_server/sim/sim_test_helpers.h"
 
@@ -147,6 +152,59 @@ TEST(RobotDevicesTest, TheSimulatorHasTheConfiguredSonarAndBumpers) {
   EXPECT_TRUE(MakeSonarAndBumpers(ServerConfig(), clock, &none, &error)) << error;
   EXPECT_EQ(none.sonar(), nullptr);
   EXPECT_EQ(none.bumpers, nullptr);
+}
+
+// --replay-sensors on a simulated robot with belts: the configured belts come from the
+// recording too (one timeline with the camera and laser), and read its sonar and bumper records.
+TEST(RobotDevicesTest, ReplaySensorsReplaysTheConfiguredBeltsFromTheSameRecording) {
+  const std::string path = record::testing::TempPath("robot_devices_belts.mostar");
+  {
+    FakeClock clock(record::testing::T0());
+    std::string error;
+    auto writer =
+        record::RecordingWriter::Open(path, {}, record::testing::MakeInfo(), clock, &error);
+    ASSERT_NE(writer, nullptr) << error;
+    const Time t0 = record::testing::T0();
+    EXPECT_TRUE(writer->Write(record::testing::At(t0, record::testing::MakeScan(t0, 1))));
+    EXPECT_TRUE(writer->Write(record::testing::At(t0, record::testing::MakeSonar(t0))));
+    EXPECT_TRUE(writer->Write(record::testing::At(t0, record::testing::MakeBumpers(t0))));
+    ASSERT_TRUE(writer->Close(&error)) << error;
+  }
+  ServerFlags flags;
+  flags.scene = sim::testing::SourceDir() + "/deploy/scenes/glass_door.pbtxt";
+  flags.replay_sensors = path;
+  flags.replay_loop = true;
+  ServerConfig config;
+  config.mutable_bumpers()->set_backend(BumperConfig::SIM);
+  config.mutable_bumpers()->set_segments(16);
+  config.mutable_sonar()->add_sensors()->set_address(0x70);
+  ApplyFlags(flags, &config);
+  drive::DriveSettings settings;
+  RobotDevices devices;
+  std::string error;
+  ASSERT_TRUE(MakeRobotDevices(config, "", &SystemClock::Instance(), &settings, &devices, &error))
+      << error;
+  EXPECT_NE(dynamic_cast<replay::ReplayLaserScanner*>(devices.laser()), nullptr);
+  auto* sonar = dynamic_cast<replay::ReplaySonarRing*>(devices.sonar());
+  ASSERT_NE(sonar, nullptr);
+  auto* bumpers = dynamic_cast<replay::ReplayBumperBelt*>(devices.bumpers.get());
+  ASSERT_NE(bumpers, nullptr);
+  EXPECT_EQ(bumpers->segments(), 16);
+  // The recorded bumper state (segments 0 and 15 pressed) is read once it is due.
+  uint32_t pressed = 0;
+  std::string why;
+  for (int i = 0; i < 200 && !bumpers->Read(&pressed, &why); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(pressed, 0x8001u) << why;
+  std::atomic<int> cycles{0};
+  ASSERT_TRUE(sonar->Start([&](const SonarRanges&) { ++cycles; }, &error)) << error;
+  for (int i = 0; i < 200 && cycles == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  sonar->Stop();
+  EXPECT_GT(cycles.load(), 0);
+  std::remove(path.c_str());
 }
 
 TEST(TestPatternLaserTest, ScansAtItsRateUntilStoppedAndStartsOnce) {

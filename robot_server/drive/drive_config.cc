@@ -50,6 +50,8 @@ bool DriveSettingsFromProto(const DriveConfig& config, DriveSettings* settings,
   safety.slow_distance_m = s.slow_distance_m();
   safety.scan_max_age = Ms(s.scan_max_age_ms());
   safety.unknown_scan_speed_factor = s.unknown_scan_speed_factor();
+  safety.sonar_max_age = Ms(s.sonar_max_age_ms());
+  safety.sonar_arc_step_m = s.sonar_arc_step_m();
   settings->control_period = Ms(s.control_period_ms());
   safety.max_cycle = 5 * settings->control_period;
   if (!safety.IsValid(error)) {

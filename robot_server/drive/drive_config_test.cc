@@ -35,6 +35,20 @@ TEST(DriveConfigTest, DefaultsAreValid) {
   EXPECT_EQ(settings.roles.Lookup("anyone").role, Role::kObserver);
 }
 
+TEST(DriveConfigTest, SonarRulesAreConfigurable) {
+  DriveConfig config;
+  std::string error;
+  ASSERT_TRUE(ParseTextConfig("safety { sonar_max_age_ms: 400 sonar_arc_step_m: 0.1 }",
+                              "test.pbtxt", &config, &error))
+      << error;
+  DriveSettings settings;
+  ASSERT_TRUE(DriveSettingsFromProto(config, &settings, &error)) << error;
+  EXPECT_EQ(settings.safety.sonar_max_age, std::chrono::milliseconds(400));
+  EXPECT_EQ(settings.safety.sonar_arc_step_m, 0.1);
+  EXPECT_FALSE(ParseTextConfig("safety { sonar_arc_step_m: 0 }", "test.pbtxt", &config, &error));
+  EXPECT_NE(error.find("sonar_arc_step_m"), std::string::npos) << error;
+}
+
 TEST(DriveConfigTest, RefusesAnOutOfRangeValueWithTheKey) {
   DriveConfig config;
   std::string error;
