@@ -106,11 +106,15 @@ def main():
         check(True, "frames carry their pair's edge result")
         wait_for("the bumper state in the HUD",
                  lambda: text(driver, "hud-bumpers") not in ("?", ""), 20)
-        # The outline points of the frame shown right before the screenshot: the robot stands
-        # still, so a newer frame draws the same outline.
+        # The page keeps the frame it shows (frozen) while the test reads it and takes the
+        # screenshot.
+        wait_for("a frame shown with an outlined sonar sector",
+                 lambda: driver.js("if (window.mostar.sonarOutlineMidpoints().length === 0) return false;"
+                                   " window.mostar.freeze(true); return true;"), 30)
         midpoints = driver.js("return window.mostar.sonarOutlineMidpoints()")
         dots = driver.js("return window.mostar.obstacleDots()")
         png = driver.screenshot_png()
+        driver.js("window.mostar.freeze(false)")
         w, h, pixels = webtest.read_png(png)
         hits = sum(1 for p in midpoints
                    if magenta_near(pixels, w, h, int(round(p["x"])), int(round(p["y"]))))

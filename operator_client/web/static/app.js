@@ -17,6 +17,7 @@ const stats = {
 };
 let lastFrame = null;       // the frame shown last (decoded)
 let lastHud = null;         // the HUD received last
+let frozen = false;         // tests: keep the shown frame (window.mostar.freeze)
 let pendingFrame = null;    // the newest frame waiting for the image decoder
 let decoding = false;
 
@@ -226,6 +227,10 @@ function drawMap(f) {
 
 async function show(f) {
   const left = await createImageBitmap(f.left);
+  if (frozen) {
+    left.close();
+    return;
+  }
   if (imageCanvas.width !== f.width || imageCanvas.height !== f.height) {
     imageCanvas.width = f.width;
     imageCanvas.height = f.height;
@@ -254,6 +259,7 @@ async function show(f) {
 // The newest frame only: while one is being decoded and drawn, a newer one replaces the waiting
 // one (this browser's own queue of one).
 function offer(f) {
+  if (frozen) return;
   if (pendingFrame) stats.framesSkipped += 1;
   pendingFrame = f;
   if (decoding) return;
@@ -442,6 +448,9 @@ window.mostar = {
     }
     return out;
   },
+  // Tests: while frozen, the page keeps the frame it shows (a screenshot then matches the
+  // frame the test read) and drops the frames that come.
+  freeze(on) { frozen = on; },
   lastFrameInfo() {
     const f = lastFrame;
     return f ? { sequence: f.sequence, edges: f.edges, sonar: f.sonar, sonarEchoes: f.sonarEchoes,
