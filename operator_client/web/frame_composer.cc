@@ -1,5 +1,7 @@
 #include "operator_client/web/frame_composer.h"
 
+#include <algorithm>
+
 #include "common/check/check.h"
 #include "operator_client/render/overlay_geometry.h"
 #include "operator_client/ui/overlay_assembly.h"
@@ -10,6 +12,7 @@ namespace mostar::web {
 bool ComposerOptions::IsValid(std::string* error) const {
   if (!calibration.IsValid(error)) return false;
   if (!ar.IsValid(error)) return false;
+  if (!sonar.IsValid(error)) return false;
   render::StereoGeometry geometry;
   std::string why;
   if (!geometry.Update(calibration, calibration, alignment_model, left_alignment, right_alignment,
@@ -34,6 +37,16 @@ void FrameComposer::RefreshGeometry() {
   geometry_.Update(options_.calibration, options_.calibration, options_.alignment_model,
                    options_.left_alignment, options_.right_alignment, &error);
   MOSTAR_CHECK(geometry_.ready()) << error;  // the calibration was checked valid
+  left_model_ = std::make_shared<const math::CameraModel>(geometry_.eye(0).image);
+  right_model_ = std::make_shared<const math::CameraModel>(geometry_.eye(1).image);
+}
+
+std::vector<bool> FrameComposer::PotentialOutliers(const LaserScan& scan) {
+  std::string error;
+  return ui::PotentialOutliers(
+      builders_.For(ui::OverlayArOptions(options_.ar, options_.calibration.laser_height_m, false),
+                    &error),
+      scan);
 }
 
 void FrameComposer::SetRobotIntrinsics(const std::optional<CameraIntrinsicsInfo>& left,
@@ -45,10 +58,18 @@ void FrameComposer::SetRobotIntrinsics(const std::optional<CameraIntrinsicsInfo>
   if (result.outcome == ui::IntrinsicsAdopter::Outcome::kAdopted) RefreshGeometry();
 }
 
-ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair,
-                                     const std::optional<LaserScan>& scan,
-                                     const std::vector<vision::PossibleObstacle>& obstacles,
+ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair, const FrameInputs& inputs,
                                      uint32_t sequence, bool both_eyes) {
+  static const std::vector<vision::PossibleObstacle> kNone;
+  const bool edges = inputs.edges && inputs.edges->ok;
+  const std::vector<vision::PossibleObstacle>& obstacles =
+      edges ? inputs.edges->classification.possible_obstacles : kNone;
+  // As the console: with the pair's own edge result, the NEP-corrected scan (NEP-corrected
+  // points, confirmed outliers removed).
+  const LaserScan* scan = inputs.scan ? &*inputs.scan : nullptr;
+  if (edges && !inputs.edges->classification.corrected_scan.ranges_m.empty()) {
+    scan = &inputs.edges->classification.corrected_scan;
+  }
   std::string error;
   const fusion::ArFeatureBuilder& builder = builders_.For(
       ui::OverlayArOptions(options_.ar, options_.calibration.laser_height_m, false), &error);
@@ -61,6 +82,23 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair,
   const ImageOverlay overlay = ProjectOverlay(geometry, features.labels, model);
   const std::vector<MapPoint> map = MapPoints(features);
 
+  // The sonar sectors as the console builds them, compared with this frame's laser points; in
+  // a layer of their own so that the page draws them under the walls.
+  fusion::SonarFeatures sonar;
+  const bool with_sonar = inputs.sonar && options_.sonar.enabled;
+  if (with_sonar) {
+    fusion::ArFeatureOptions colors = options_.ar;
+    colors.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
+    fusion::LaserFieldOfView fov;  // none without a scan: nothing compared
+    if (scan) fov = {scan->angle_min_rad, scan->angle_max_rad()};
+    fusion::BuildSonarFeatures(*inputs.sonar, features.points, fov, colors, options_.sonar, &sonar);
+  }
+  render::OverlayGeometry sonar_geometry;
+  ui::AssembleOverlay(&sonar, nullptr, kNone, fusion::VertexArray(), &sonar_geometry);
+  const ImageOverlay sonar_overlay = ProjectOverlay(sonar_geometry, {}, model);
+  const std::vector<MapPoint> sonar_map_triangles = MapVertices(sonar.fans);
+  const std::vector<MapPoint> sonar_map_lines = MapVertices(sonar.outlines);
+
   FrameContent content;
   content.sequence = sequence;
   content.width_px = model.width_px();
@@ -69,6 +107,14 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair,
   if (scan) content.scan_stamp = scan->stamp;
   content.overlay = &overlay;
   content.map = &map;
+  content.sonar = &sonar_overlay;
+  content.sonar_map_triangles = &sonar_map_triangles;
+  content.sonar_map_lines = &sonar_map_lines;
+  content.sonar_echoes = static_cast<int>(std::min<size_t>(sonar.echoes, 65535));
+  content.sonar_unseen =
+      static_cast<int>(std::min<size_t>(sonar.unseen, static_cast<size_t>(content.sonar_echoes)));
+  content.possible_obstacles = obstacles.size();
+  content.flags = (edges ? kFrameEdges : 0u) | (with_sonar ? kFrameSonar : 0u);
   content.left_jpeg = &pair.left.data;
   ComposedFrame out;
   out.left_only = std::make_shared<const std::string>(EncodeFrame(content));
@@ -77,7 +123,10 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair,
     out.both_eyes = std::make_shared<const std::string>(EncodeFrame(content));
   }
   out.triangles = overlay.triangles.size() / 3;
-  out.unprojectable = overlay.unprojectable;
+  out.unprojectable = overlay.unprojectable + sonar_overlay.unprojectable;
+  out.sonar_triangles = sonar_overlay.triangles.size() / 3;
+  out.possible_obstacles = obstacles.size();
+  out.edges = edges;
   return out;
 }
 

@@ -2,11 +2,37 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "operator_client/fusion/test_scenes.h"
 #include "operator_client/web/frame_reader_for_test.h"
 
 namespace mostar::web {
 namespace {
+
+FrameInputs WithScan(const LaserScan& scan) {
+  FrameInputs inputs;
+  inputs.scan = scan;
+  return inputs;
+}
+
+// One sonar 0.2 m ahead of the laser looking forward with an echo at `range_m`.
+SonarRanges SonarAhead(float range_m) {
+  SonarRange r;
+  r.mount.frame_id = "sonar_0";
+  r.mount.x_m = 0.2;
+  r.range_m = range_m;
+  r.min_range_m = 0.03f;
+  r.max_range_m = 6.0f;
+  r.field_of_view_rad = 0.5f;
+  SonarRanges ring;
+  ring.cycle = 3;
+  ring.ranges = {r};
+  return ring;
+}
+
+bool IsMagenta(const uint8_t rgba[4]) { return rgba[0] == 255 && rgba[1] == 0 && rgba[2] == 255; }
 
 CompressedStereoPair Pair() {
   CompressedStereoPair pair;
@@ -20,7 +46,7 @@ TEST(FrameComposerTest, AScanGivesWallsInTheImageAndTheMap) {
   FrameComposer composer{ComposerOptions{}};
   LaserScan scan = fusion::testing::MakeScan(fusion::testing::Room(), 181);
   scan.stamp = FromUnixNanos(1700000000010000000);
-  const ComposedFrame frame = composer.Compose(Pair(), scan, {}, 5, false);
+  const ComposedFrame frame = composer.Compose(Pair(), WithScan(scan), 5, false);
   ASSERT_TRUE(frame.left_only);
   EXPECT_FALSE(frame.both_eyes);
   EXPECT_GT(frame.triangles, 10u);
@@ -41,11 +67,13 @@ TEST(FrameComposerTest, AScanGivesWallsInTheImageAndTheMap) {
     if (composer.left_image_model().IsInImage(Eigen::Vector2d(v.u_px, v.v_px))) ++in_image;
   }
   EXPECT_GT(in_image, 0);
+  EXPECT_EQ(f.flags, 0u);  // no edge result, no sonar
+  EXPECT_TRUE(f.sonar_triangles.empty());
 }
 
 TEST(FrameComposerTest, BothEyesOnlyWhenAsked) {
   FrameComposer composer{ComposerOptions{}};
-  const ComposedFrame frame = composer.Compose(Pair(), std::nullopt, {}, 1, true);
+  const ComposedFrame frame = composer.Compose(Pair(), FrameInputs{}, 1, true);
   ASSERT_TRUE(frame.both_eyes);
   testing::ReadFrame f;
   ASSERT_TRUE(testing::Read(*frame.both_eyes, &f));
@@ -57,17 +85,130 @@ TEST(FrameComposerTest, BothEyesOnlyWhenAsked) {
   EXPECT_TRUE(f.map.empty());
 }
 
-TEST(FrameComposerTest, PossibleObstaclesAreMagentaDots) {
+TEST(FrameComposerTest, ThePairsEdgeResultGivesMagentaDotsAndTheCorrectedScan) {
   FrameComposer composer{ComposerOptions{}};
+  LaserScan scan = fusion::testing::MakeScan(fusion::testing::Room(), 181);
+  scan.stamp = FromUnixNanos(1700000000010000000);
+  auto result = std::make_shared<vision::VisionResult>();
+  result->ok = true;
   vision::PossibleObstacle obstacle;
   obstacle.floor_point_laser = Eigen::Vector3d(1.5, 0.0, -0.4);
-  const ComposedFrame frame = composer.Compose(Pair(), std::nullopt, {obstacle}, 1, false);
+  result->classification.possible_obstacles = {obstacle};
+  result->classification.corrected_scan = scan;
+  result->classification.corrected_scan.stamp = FromUnixNanos(1700000000020000000);
+  FrameInputs inputs = WithScan(scan);
+  inputs.edges = result;
+  ComposedFrame frame = composer.Compose(Pair(), inputs, 1, false);
+  EXPECT_TRUE(frame.edges);
+  EXPECT_EQ(frame.possible_obstacles, 1u);
+  testing::ReadFrame f;
+  ASSERT_TRUE(testing::Read(*frame.left_only, &f));
+  EXPECT_EQ(f.flags, kFrameEdges);
+  EXPECT_EQ(f.possible_obstacles, 1u);
+  EXPECT_NEAR(f.scan_stamp_s, 1700000000.02, 1e-6) << "the walls come from the corrected scan";
+  // The dot where the camera model puts the obstacle (the laser points are not magenta).
+  const Eigen::Vector2d expected = *composer.left_image_model().Project(obstacle.floor_point_laser);
+  int dots = 0;
+  for (const PixelVertex& p : f.points) {
+    if (!IsMagenta(p.rgba)) continue;
+    ++dots;
+    EXPECT_NEAR(p.u_px, expected.x(), 1e-3);
+    EXPECT_NEAR(p.v_px, expected.y(), 1e-3);
+  }
+  EXPECT_EQ(dots, 1);
+
+  // A failed result draws nothing of it: the raw scan, no dots.
+  result->ok = false;
+  frame = composer.Compose(Pair(), inputs, 2, false);
+  EXPECT_FALSE(frame.edges);
+  ASSERT_TRUE(testing::Read(*frame.left_only, &f));
+  EXPECT_EQ(f.flags, 0u);
+  EXPECT_EQ(f.possible_obstacles, 0u);
+  EXPECT_NEAR(f.scan_stamp_s, 1700000000.01, 1e-6);
+  for (const PixelVertex& p : f.points) EXPECT_FALSE(IsMagenta(p.rgba));
+}
+
+TEST(FrameComposerTest, PossibleObstaclesWithoutAScanAreStillDrawn) {
+  FrameComposer composer{ComposerOptions{}};
+  auto result = std::make_shared<vision::VisionResult>();
+  result->ok = true;
+  vision::PossibleObstacle obstacle;
+  obstacle.floor_point_laser = Eigen::Vector3d(1.5, 0.0, -0.4);
+  result->classification.possible_obstacles = {obstacle};
+  FrameInputs inputs;
+  inputs.edges = result;
+  const ComposedFrame frame = composer.Compose(Pair(), inputs, 1, false);
   testing::ReadFrame f;
   ASSERT_TRUE(testing::Read(*frame.left_only, &f));
   ASSERT_EQ(f.points.size(), 1u);
-  EXPECT_EQ(f.points[0].rgba[0], 255);
-  EXPECT_EQ(f.points[0].rgba[1], 0);
-  EXPECT_EQ(f.points[0].rgba[2], 255);
+  EXPECT_TRUE(IsMagenta(f.points[0].rgba));
+}
+
+TEST(FrameComposerTest, SonarSectorsInTheImageAndTheMapUnderTheWalls) {
+  FrameComposer composer{ComposerOptions{}};
+  // The room's end wall is 3 m ahead: an echo at 1.2 m is something the laser does not see
+  // (the glass door), outlined in magenta.
+  LaserScan scan = fusion::testing::MakeScan(fusion::testing::Room(), 181);
+  FrameInputs inputs = WithScan(scan);
+  inputs.sonar = SonarAhead(1.2f);
+  ComposedFrame frame = composer.Compose(Pair(), inputs, 1, false);
+  EXPECT_GT(frame.sonar_triangles, 0u);
+  testing::ReadFrame f;
+  ASSERT_TRUE(testing::Read(*frame.left_only, &f));
+  EXPECT_EQ(f.flags, kFrameSonar);
+  EXPECT_EQ(f.sonar_echoes, 1);
+  EXPECT_EQ(f.sonar_unseen, 1);
+  EXPECT_EQ(f.triangles.size(), 3 * frame.triangles) << "the walls stay in their own layer";
+  ASSERT_FALSE(f.sonar_triangles.empty());
+  ASSERT_FALSE(f.sonar_lines.empty());
+  for (const PixelVertex& v : f.sonar_lines) EXPECT_TRUE(IsMagenta(v.rgba));
+  // Translucent fans whose vertices the camera model puts in the image's lower half (floor).
+  int in_image = 0;
+  for (const PixelVertex& v : f.sonar_triangles) {
+    EXPECT_LT(v.rgba[3], 255);
+    if (composer.left_image_model().IsInImage(Eigen::Vector2d(v.u_px, v.v_px))) {
+      ++in_image;
+      EXPECT_GT(v.v_px, f.height_px / 2);
+    }
+  }
+  EXPECT_GT(in_image, 0);
+  // On the map: the fan from the mount to the echo arc, in metres of the laser frame.
+  ASSERT_FALSE(f.sonar_map_triangles.empty());
+  ASSERT_FALSE(f.sonar_map_lines.empty());
+  float farthest = 0;
+  for (const MapPoint& p : f.sonar_map_triangles) {
+    EXPECT_GE(p.x_m, 0.2f - 1e-4f);
+    farthest = std::max(farthest, std::hypot(p.x_m - 0.2f, p.y_m));
+  }
+  EXPECT_NEAR(farthest, 1.2f, 1e-3);
+
+  // An echo on the wall the laser sees: a sector, no outline.
+  inputs.sonar = SonarAhead(2.8f);
+  frame = composer.Compose(Pair(), inputs, 2, false);
+  ASSERT_TRUE(testing::Read(*frame.left_only, &f));
+  EXPECT_EQ(f.sonar_echoes, 1);
+  EXPECT_EQ(f.sonar_unseen, 0);
+  EXPECT_FALSE(f.sonar_map_triangles.empty());
+  EXPECT_TRUE(f.sonar_lines.empty());
+
+  // Sonar sectors switched off in the configuration: nothing, as in the console.
+  ComposerOptions off;
+  off.sonar.enabled = false;
+  FrameComposer quiet{off};
+  inputs.sonar = SonarAhead(1.2f);
+  ASSERT_TRUE(testing::Read(*quiet.Compose(Pair(), inputs, 1, false).left_only, &f));
+  EXPECT_EQ(f.flags, 0u);
+  EXPECT_TRUE(f.sonar_map_triangles.empty());
+}
+
+TEST(FrameComposerTest, PotentialOutliersHaveOneLabelPerBeam) {
+  FrameComposer composer{ComposerOptions{}};
+  const LaserScan scan = fusion::testing::MakeScan(fusion::testing::Legs(), 361);
+  const std::vector<bool> outliers = composer.PotentialOutliers(scan);
+  ASSERT_EQ(outliers.size(), scan.ranges_m.size());
+  ASSERT_TRUE(composer.left_model());
+  ASSERT_TRUE(composer.right_model());
+  EXPECT_EQ(composer.left_model()->width_px(), composer.left_image_model().width_px());
 }
 
 TEST(FrameComposerTest, AdoptsTheRobotsIntrinsicsOrSaysWhyNot) {

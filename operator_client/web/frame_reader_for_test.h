@@ -16,6 +16,10 @@ struct ReadFrame {
   double stamp_s = 0, scan_stamp_s = 0;
   std::vector<PixelVertex> triangles, lines, points;
   std::vector<MapPoint> map;
+  std::vector<PixelVertex> sonar_triangles, sonar_lines;
+  std::vector<MapPoint> sonar_map_triangles, sonar_map_lines;
+  int sonar_echoes = 0, sonar_unseen = 0;
+  uint32_t possible_obstacles = 0, flags = 0;
   std::string labels_json, left_jpeg, right_jpeg;
   float point_size_px = 0;
 };
@@ -39,15 +43,20 @@ inline double F64(const std::string& b, size_t o) {
 }
 inline size_t Pad4(size_t n) { return (n + 3) & ~size_t{3}; }
 
-// False when the bytes do not hold a complete frame.
+// False when the bytes do not hold a complete frame. Overwrites every field of `f`.
 inline bool Read(const std::string& b, ReadFrame* f) {
-  if (b.size() < kFrameHeaderBytes || b.compare(0, 4, "MWF1") != 0) return false;
+  *f = ReadFrame();
+  if (b.size() < kFrameHeaderBytes || b.compare(0, 4, "MWF2") != 0) return false;
   f->sequence = U32(b, 8);
   f->width_px = static_cast<int>(U32(b, 12) & 0xffff);
   f->height_px = static_cast<int>(U32(b, 12) >> 16);
   f->stamp_s = F64(b, 16);
   f->scan_stamp_s = F64(b, 24);
   f->point_size_px = F32(b, 60);
+  f->sonar_echoes = static_cast<int>(U32(b, 80) & 0xffff);
+  f->sonar_unseen = static_cast<int>(U32(b, 80) >> 16);
+  f->possible_obstacles = U32(b, 84);
+  f->flags = U32(b, 88);
   size_t o = U32(b, 4);
   auto vertices = [&](uint32_t n, std::vector<PixelVertex>* out) {
     if (o + 12 * size_t{n} > b.size()) return false;
@@ -60,17 +69,24 @@ inline bool Read(const std::string& b, ReadFrame* f) {
     o += 12 * size_t{n};
     return true;
   };
-  std::vector<PixelVertex> map;
+  auto map_vertices = [&](uint32_t n, std::vector<MapPoint>* out) {
+    std::vector<PixelVertex> v;
+    if (!vertices(n, &v)) return false;
+    for (const PixelVertex& p : v) {
+      MapPoint m;
+      m.x_m = p.u_px;
+      m.y_m = p.v_px;
+      std::memcpy(m.rgba, p.rgba, 4);
+      out->push_back(m);
+    }
+    return true;
+  };
   if (!vertices(U32(b, 32), &f->triangles) || !vertices(U32(b, 36), &f->lines) ||
-      !vertices(U32(b, 40), &f->points) || !vertices(U32(b, 44), &map)) {
+      !vertices(U32(b, 40), &f->points) || !map_vertices(U32(b, 44), &f->map) ||
+      !vertices(U32(b, 64), &f->sonar_triangles) || !vertices(U32(b, 68), &f->sonar_lines) ||
+      !map_vertices(U32(b, 72), &f->sonar_map_triangles) ||
+      !map_vertices(U32(b, 76), &f->sonar_map_lines)) {
     return false;
-  }
-  for (const PixelVertex& v : map) {
-    MapPoint m;
-    m.x_m = v.u_px;
-    m.y_m = v.v_px;
-    std::memcpy(m.rgba, v.rgba, 4);
-    f->map.push_back(m);
   }
   auto bytes = [&](uint32_t n, std::string* out) {
     if (o + n > b.size()) return false;

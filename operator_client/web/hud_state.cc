@@ -1,5 +1,7 @@
 #include "operator_client/web/hud_state.h"
 
+#include "operator_client/ui/bumper_display.h"
+
 namespace mostar::web {
 
 HudState MakeHud(const client::RobotSnapshot& robot, const HudInputs& inputs, Time now,
@@ -38,6 +40,17 @@ HudState MakeHud(const client::RobotSnapshot& robot, const HudInputs& inputs, Ti
       hud.warnings.push_back(d.name + " " + DeviceStateName(d.state) + ": " + d.message);
     }
   }
+  const ui::BumperView bumpers =
+      ui::ViewBumpers(robot.bumpers, robot.last_bumpers_received, steady_now);
+  for (const ui::SegmentLook look : bumpers.segments) {
+    hud.bumper_segments.push_back(look == ui::SegmentLook::kPressed   ? "pressed"
+                                  : look == ui::SegmentLook::kLatched ? "latched"
+                                                                      : "idle");
+  }
+  hud.bumper_alert = bumpers.alert;
+  hud.bumper_stale = bumpers.stale;
+  hud.bumper_status = bumpers.status;
+  hud.footprint_radius_m = inputs.footprint_radius_m;
   hud.pilot = robot.lease ? robot.lease->holder_id
                           : (robot.health ? robot.health->lease_holder : std::string());
   return hud;

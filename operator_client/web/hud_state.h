@@ -18,10 +18,12 @@ struct HudInputs {
   double video_fps = 0;
   uint64_t browsers = 0;
   bool dds_security_off = false;
+  double footprint_radius_m = 0;  // the robot outline on the map, metres
 };
 
 // The link state is "no contact" when no health arrived for kStaleAfter, else "no video" or
-// "no scans" when that stream is stale, else "ok".
+// "no scans" when that stream is stale, else "ok". The bumpers are the console's view of the
+// robot's latest BumperState (ui::ViewBumpers).
 HudState MakeHud(const client::RobotSnapshot& robot, const HudInputs& inputs, Time now,
                  SteadyTime steady_now);
 

@@ -84,5 +84,31 @@ TEST(MakeHudTest, EstopIsShown) {
   EXPECT_TRUE(MakeHud(robot, FreshVideo(), kWallNow, kNow).estop_engaged);
 }
 
+TEST(MakeHudTest, ShowsTheBumperBeltAsTheConsoleDoes) {
+  client::RobotSnapshot robot = Healthy();
+  HudInputs inputs = FreshVideo();
+  inputs.footprint_radius_m = 0.3;
+  HudState hud = MakeHud(robot, inputs, kWallNow, kNow);
+  EXPECT_TRUE(hud.bumper_segments.empty());  // no state yet
+  EXPECT_FALSE(hud.bumper_alert);
+  EXPECT_DOUBLE_EQ(hud.footprint_radius_m, 0.3);
+  BumperState bumpers;
+  bumpers.segment_count = 16;
+  bumpers.pressed = 1u << 1;
+  bumpers.latched = 1u << 8;
+  robot.bumpers = bumpers;
+  robot.last_bumpers_received = kNow - std::chrono::milliseconds(100);
+  hud = MakeHud(robot, inputs, kWallNow, kNow);
+  ASSERT_EQ(hud.bumper_segments.size(), 16u);
+  EXPECT_EQ(hud.bumper_segments[0], "idle");
+  EXPECT_EQ(hud.bumper_segments[1], "pressed");
+  EXPECT_EQ(hud.bumper_segments[8], "latched");
+  EXPECT_TRUE(hud.bumper_alert);
+  EXPECT_FALSE(hud.bumper_stale);
+  EXPECT_NE(hud.bumper_status.find("BUMPER"), std::string::npos) << hud.bumper_status;
+  robot.last_bumpers_received = kNow - std::chrono::seconds(10);
+  EXPECT_TRUE(MakeHud(robot, inputs, kWallNow, kNow).bumper_stale);
+}
+
 }  // namespace
 }  // namespace mostar::web

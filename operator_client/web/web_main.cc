@@ -1,14 +1,16 @@
 // mostar_web: lets any number of browsers watch the robot's AR view (docs/web_observer.md).
 // Wiring only: DDS readers (never a writer: read-only by construction) feed the eye pairer and
-// the robot state; a compose thread turns the newest pair into one encoded frame for every
-// browser (FrameComposer) and the robot state into the HUD four times a second; WebServer
-// sends both to the browsers, each at the pace it can take.
+// the robot state; a compose thread hands the newest pair to edge processing (EdgeRunner),
+// turns it into one encoded frame for every browser (FrameComposer) with its own edge result
+// when that comes within --edges-wait-s and before the next pair, and the robot state into the
+// HUD four times a second; WebServer sends both to the browsers, each at the pace it can take.
 //
 // Threads: DDS receive threads (pairing under a mutex, the newest pair into a latest-value slot,
-// robot state); the compose thread; the web server's network thread; the main thread waits
-// for a signal or --duration and prints statistics.
+// robot state); the compose thread; the edge thread; the web server's network thread; the main
+// thread waits for a signal or --duration and prints statistics.
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -32,6 +34,7 @@
 #include "operator_client/client_config.pb.h"
 #include "operator_client/client_options.h"
 #include "operator_client/net/robot_state.h"
+#include "operator_client/web/edge_runner.h"
 #include "operator_client/web/eye_pairer.h"
 #include "operator_client/web/frame_composer.h"
 #include "operator_client/web/hud_state.h"
@@ -51,6 +54,8 @@ struct Readers {
   std::unique_ptr<dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType>> scan;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::RobotHealth_PubSubType>> health;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers;
 
   bool ok(std::string* error) const {
     auto check = [error](const auto& r) {
@@ -58,7 +63,7 @@ struct Readers {
       return r->ok();
     };
     return check(left) && check(right) && check(left_info) && check(scan) && check(health) &&
-           check(lease);
+           check(lease) && check(sonar) && check(bumpers);
   }
 };
 
@@ -73,6 +78,8 @@ int Main(int argc, char** argv) {
   double write_timeout_s = 5;
   double request_timeout_s = 10;
   double hud_period_s = 0.25;
+  std::string edges = "config";
+  double edges_wait_s = 0.1;
   double duration_s = 0;
   double stats_period_s = 10;
   std::string log_level = "info";
@@ -112,6 +119,14 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 600.0));
   app.add_option("--hud-period-s", hud_period_s, "HUD update period")
       ->check(CLI::Range(0.05, 10.0));
+  app.add_option("--edges", edges,
+                 "edge processing (NEP dots, NEP-corrected scan): on, off, or config (the "
+                 "configuration's vision_enabled)")
+      ->check(CLI::IsMember({"on", "off", "config"}));
+  app.add_option("--edges-wait-s", edges_wait_s,
+                 "longest a frame waits for its pair's edge result (it never waits past the "
+                 "next pair); then it goes out without NEP dots")
+      ->check(CLI::Range(0.001, 1.0));
   app.add_option("--duration", duration_s, "stop after this many seconds (0 = until signal)")
       ->check(CLI::Range(0.0, 1e7));
   app.add_option("--stats-period-s", stats_period_s, "log statistics this often")
@@ -140,6 +155,10 @@ int Main(int argc, char** argv) {
   ComposerOptions composer_options;
   composer_options.calibration = console.calibration;
   composer_options.ar = console.ar;
+  composer_options.sonar = console.sonar;
+  const bool edges_on = edges == "config" ? console.vision_enabled : edges == "on";
+  vision::VisionOptions vision_options = console.vision;
+  vision_options.keep_edge_images = false;  // the page shows no edge images
   composer_options.intrinsics_from_robot = console.intrinsics_from_robot;
   if (!console.calibration_path.empty()) {
     math::LaserCameraCalibration ignored;
@@ -210,13 +229,34 @@ int Main(int argc, char** argv) {
   readers.lease = std::make_unique<decltype(readers.lease)::element_type>(
       p, topics::kControlLease, Stream::kState,
       [&](const dds::wire::ControlLease& lease) { robot.SetLease(dds::FromIdl(lease)); });
+  readers.sonar = std::make_unique<decltype(readers.sonar)::element_type>(
+      p, topics::kSonar, Stream::kSensor,
+      [&](const dds::wire::SonarRing& ring) { robot.SetSonar(dds::FromIdl(ring)); });
+  readers.bumpers = std::make_unique<decltype(readers.bumpers)::element_type>(
+      p, topics::kBumpers, Stream::kState,
+      [&](const dds::wire::BumperState& state) { robot.SetBumpers(dds::FromIdl(state)); });
   if (!readers.ok(&error)) {
     std::cerr << "mostar_web: " << error << "\n";
     return 2;
   }
 
   std::atomic<uint64_t> frames_composed{0};
+  std::atomic<uint64_t> frames_with_edges{0};
+  std::unique_ptr<EdgeRunner> edge_runner;
+  if (edges_on) edge_runner = std::make_unique<EdgeRunner>(vision_options);
   auto dds_stats = [&]() {
+    std::string edge_stats = "\"edges\":" + std::string(edge_runner ? "true" : "false") + ",";
+    if (edge_runner) {
+      const EdgeRunner::Stats e = edge_runner->stats();
+      char ms[64];
+      std::snprintf(ms, sizeof ms, "\"edge_decode_ms\":%.1f,\"edge_processing_ms\":%.1f,",
+                    ToSeconds(e.decode_time) * 1e3, ToSeconds(e.processing_time) * 1e3);
+      edge_stats += "\"edge_jobs\":" + std::to_string(e.submitted) +
+                    ",\"edge_jobs_replaced\":" + std::to_string(e.replaced) +
+                    ",\"edge_results\":" + std::to_string(e.processed) +
+                    ",\"edge_failed\":" + std::to_string(e.failed) +
+                    ",\"edge_undecodable\":" + std::to_string(e.broken) + "," + ms;
+    }
     EyePairerStats s;
     {
       std::lock_guard<std::mutex> lock(pairer_mutex);
@@ -226,7 +266,8 @@ int Main(int argc, char** argv) {
     return "\"images\":" + std::to_string(s.images) + ",\"pairs\":" + std::to_string(s.pairs) +
            ",\"unpaired\":" + std::to_string(s.unpaired) + ",\"late\":" + std::to_string(s.late) +
            ",\"pairs_skipped\":" + std::to_string(slot.drops) +
-           ",\"frames_composed\":" + std::to_string(frames_composed.load()) + ",";
+           ",\"frames_composed\":" + std::to_string(frames_composed.load()) +
+           ",\"frames_with_edges\":" + std::to_string(frames_with_edges.load()) + "," + edge_stats;
   };
   std::unique_ptr<WebServer> server = WebServer::Create(web, dds_stats, &error);
   if (!server) {
@@ -239,7 +280,10 @@ int Main(int argc, char** argv) {
             << "/ on DDS domain " << dds_options.domain_id << " (" << dds_options.profile << ")"
             << std::endl;
 
-  // The compose thread: the newest pair into one frame for every browser; the HUD.
+  // The compose thread: the newest pair into one frame for every browser; the HUD. With edge
+  // processing, a pair is held (at most one) until its own edge result is published, the next
+  // pair arrives or --edges-wait-s passes, whichever comes first; so a slow edge thread costs
+  // frames their dots, never their rate.
   std::atomic<bool> stop{false};
   std::thread composer_thread([&] {
     FrameComposer composer(composer_options);
@@ -250,22 +294,70 @@ int Main(int argc, char** argv) {
     uint64_t hud_sequence = 0;
     SteadyTime next_hud = clock->SteadyNow();
     std::string intrinsics_message;
+    struct Held {
+      CompressedStereoPair pair;
+      uint32_t sequence = 0;
+      std::optional<LaserScan> scan;
+      SteadyTime deadline;
+    };
+    std::optional<Held> held;
+    auto send = [&](const Held& h, std::shared_ptr<const vision::VisionResult> result) {
+      FrameInputs inputs;
+      inputs.scan = h.scan;
+      inputs.edges = std::move(result);
+      // As the console: the belt cycles at about 5 Hz, a cycle older than a second no longer
+      // shows where things are.
+      const client::RobotSnapshot robot_now = robot.Snapshot();
+      if (robot_now.sonar &&
+          clock->SteadyNow() - robot_now.last_sonar_received < std::chrono::seconds(1)) {
+        inputs.sonar = robot_now.sonar;
+      }
+      const ComposedFrame frame =
+          composer.Compose(h.pair, inputs, h.sequence, server->WantsBothEyes());
+      server->BroadcastFrame(frame);
+      ++frames_composed;
+      if (frame.edges) ++frames_with_edges;
+    };
     while (!stop.load()) {
-      std::optional<CompressedStereoPair> pair = pairs.Take(std::chrono::milliseconds(20));
+      std::optional<CompressedStereoPair> pair =
+          pairs.Take(held ? std::chrono::milliseconds(5) : std::chrono::milliseconds(20));
       const SteadyTime now = clock->SteadyNow();
+      if (held) {
+        std::shared_ptr<const vision::VisionResult> result = edge_runner->LatestResult();
+        if (result && result->sequence == held->sequence) {
+          send(*held, std::move(result));
+          held.reset();
+        } else if (pair || now >= held->deadline) {
+          send(*held, nullptr);
+          held.reset();
+        }
+      }
       if (pair) {
         composer.SetRobotIntrinsics(robot.Snapshot().left_intrinsics, &intrinsics_message);
         if (!intrinsics_message.empty()) {
           MOSTAR_LOG_EVERY_SEC(WARNING, 30) << "web: " << intrinsics_message;
         }
-        const std::optional<LaserScan> scan = robot.NearestScan(pair->left.stamp);
-        const ComposedFrame frame =
-            composer.Compose(*pair, scan, {}, ++sequence, server->WantsBothEyes());
-        server->BroadcastFrame(frame);
-        ++frames_composed;
+        Held h;
+        h.sequence = ++sequence;
+        h.scan = robot.NearestScan(pair->left.stamp);
+        h.pair = std::move(*pair);
         pair_rate.Tick(now);
-        newest_stamp = pair->left.stamp;
+        newest_stamp = h.pair.left.stamp;
         newest_received = now;
+        if (edge_runner && h.scan) {
+          EdgeJob job;
+          job.sequence = h.sequence;
+          job.pair = h.pair;
+          job.scan = *h.scan;
+          job.potential_outliers = composer.PotentialOutliers(*h.scan);
+          job.left_camera = composer.left_model();
+          job.right_camera = composer.right_model();
+          edge_runner->Submit(std::move(job));
+          h.deadline = now + FromSeconds(edges_wait_s);
+          held = std::move(h);
+        } else {
+          send(h, nullptr);
+        }
       }
       if (now >= next_hud) {
         next_hud = now + FromSeconds(hud_period_s);
@@ -275,6 +367,7 @@ int Main(int argc, char** argv) {
         inputs.video_fps = pair_rate.RateHz(now);
         inputs.browsers = server->browsers();
         inputs.dds_security_off = participant->security_off();
+        inputs.footprint_radius_m = console.path.half_width_m;
         HudState hud = MakeHud(robot.Snapshot(), inputs, clock->Now(), now);
         hud.sequence = ++hud_sequence;
         server->BroadcastHud(std::make_shared<const std::string>(EncodeHud(hud)));

@@ -45,6 +45,14 @@ void PutVertices(const std::vector<PixelVertex>& v, std::string* out) {
   for (const PixelVertex& p : v) out->append(reinterpret_cast<const char*>(p.rgba), 4);
 }
 
+void PutMapVertices(const std::vector<MapPoint>& v, std::string* out) {
+  for (const MapPoint& p : v) {
+    PutF32(p.x_m, out);
+    PutF32(p.y_m, out);
+  }
+  for (const MapPoint& p : v) out->append(reinterpret_cast<const char*>(p.rgba), 4);
+}
+
 std::string Hex(const uint8_t rgba[4]) {
   char buffer[8];
   std::snprintf(buffer, sizeof buffer, "#%02x%02x%02x", rgba[0], rgba[1], rgba[2]);
@@ -110,6 +118,17 @@ std::vector<MapPoint> MapPoints(const fusion::ArFeatures& features) {
   return out;
 }
 
+std::vector<MapPoint> MapVertices(const fusion::VertexArray& array) {
+  std::vector<MapPoint> out(array.vertex_count());
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i].x_m = array.positions[3 * i];
+    out[i].y_m = array.positions[3 * i + 1];
+    const float* c = &array.colors[4 * i];
+    ToRgba8({c[0], c[1], c[2], c[3]}, out[i].rgba);
+  }
+  return out;
+}
+
 std::string EncodeFrame(const FrameContent& frame) {
   MOSTAR_CHECK(frame.left_jpeg != nullptr);
   MOSTAR_CHECK(frame.width_px >= 0 && frame.width_px <= 65535 && frame.height_px >= 0 &&
@@ -120,15 +139,24 @@ std::string EncodeFrame(const FrameContent& frame) {
   static const std::vector<uint8_t> kNoImage;
   const ImageOverlay& overlay = frame.overlay ? *frame.overlay : kNoOverlay;
   const std::vector<MapPoint>& map = frame.map ? *frame.map : kNoMap;
+  const ImageOverlay& sonar = frame.sonar ? *frame.sonar : kNoOverlay;
+  const std::vector<MapPoint>& sonar_map_triangles =
+      frame.sonar_map_triangles ? *frame.sonar_map_triangles : kNoMap;
+  const std::vector<MapPoint>& sonar_map_lines =
+      frame.sonar_map_lines ? *frame.sonar_map_lines : kNoMap;
+  MOSTAR_CHECK(frame.sonar_echoes >= 0 && frame.sonar_echoes <= 65535 && frame.sonar_unseen >= 0 &&
+               frame.sonar_unseen <= frame.sonar_echoes)
+      << frame.sonar_echoes << " " << frame.sonar_unseen;
   const std::vector<uint8_t>& left = *frame.left_jpeg;
   const std::vector<uint8_t>& right = frame.right_jpeg ? *frame.right_jpeg : kNoImage;
   const std::string labels = LabelsJson(overlay.labels);
 
   std::string out;
-  const size_t vertices =
-      overlay.triangles.size() + overlay.lines.size() + overlay.points.size() + map.size();
+  const size_t vertices = overlay.triangles.size() + overlay.lines.size() + overlay.points.size() +
+                          map.size() + sonar.triangles.size() + sonar.lines.size() +
+                          sonar_map_triangles.size() + sonar_map_lines.size();
   out.reserve(kFrameHeaderBytes + 12 * vertices + labels.size() + left.size() + right.size() + 12);
-  out.append("MWF1", 4);
+  out.append("MWF2", 4);
   PutU32(kFrameHeaderBytes, &out);
   PutU32(frame.sequence, &out);
   PutU16(static_cast<uint16_t>(frame.width_px), &out);
@@ -143,15 +171,24 @@ std::string EncodeFrame(const FrameContent& frame) {
   PutU32(Count(left.size()), &out);
   PutU32(Count(right.size()), &out);
   PutF32(overlay.point_size_px, &out);
+  PutU32(Count(sonar.triangles.size()), &out);
+  PutU32(Count(sonar.lines.size()), &out);
+  PutU32(Count(sonar_map_triangles.size()), &out);
+  PutU32(Count(sonar_map_lines.size()), &out);
+  PutU16(static_cast<uint16_t>(frame.sonar_echoes), &out);
+  PutU16(static_cast<uint16_t>(frame.sonar_unseen), &out);
+  PutU32(Count(frame.possible_obstacles), &out);
+  PutU32(frame.flags, &out);
+  PutU32(0, &out);
   MOSTAR_CHECK(out.size() == kFrameHeaderBytes);
   PutVertices(overlay.triangles, &out);
   PutVertices(overlay.lines, &out);
   PutVertices(overlay.points, &out);
-  for (const MapPoint& p : map) {
-    PutF32(p.x_m, &out);
-    PutF32(p.y_m, &out);
-  }
-  for (const MapPoint& p : map) out.append(reinterpret_cast<const char*>(p.rgba), 4);
+  PutMapVertices(map, &out);
+  PutVertices(sonar.triangles, &out);
+  PutVertices(sonar.lines, &out);
+  PutMapVertices(sonar_map_triangles, &out);
+  PutMapVertices(sonar_map_lines, &out);
   out += labels;
   Pad4(&out);
   out.append(reinterpret_cast<const char*>(left.data()), left.size());
@@ -205,7 +242,18 @@ std::string EncodeHud(const HudState& hud) {
     if (i > 0) json += ",";
     json += JsonString(hud.warnings[i]);
   }
-  return json + "]}";
+  json += "],\"bumpers\":{\"segments\":[";
+  for (size_t i = 0; i < hud.bumper_segments.size(); ++i) {
+    if (i > 0) json += ",";
+    json += JsonString(hud.bumper_segments[i]);
+  }
+  json += std::string("],\"alert\":") + (hud.bumper_alert ? "true" : "false");
+  json += std::string(",\"stale\":") + (hud.bumper_stale ? "true" : "false");
+  json += ",\"status\":" + JsonString(hud.bumper_status);
+  char radius[32];
+  std::snprintf(radius, sizeof radius, "%.3f", hud.footprint_radius_m);
+  json += ",\"radius_m\":" + std::string(std::isfinite(hud.footprint_radius_m) ? radius : "0");
+  return json + "}}";
 }
 
 }  // namespace mostar::web

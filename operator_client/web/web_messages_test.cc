@@ -44,6 +44,21 @@ TEST(EncodeFrameTest, RoundTripsEveryField) {
   content.map = &map;
   content.left_jpeg = &left;
   content.right_jpeg = &right;
+  ImageOverlay sonar;
+  sonar.triangles = {V(20, 21, 40), V(22, 23, 41), V(24, 25, 42)};
+  sonar.lines = {V(26, 27, 50), V(28, 29, 51)};
+  std::vector<MapPoint> fans(3);
+  fans[2].x_m = 0.75f;
+  fans[2].rgba[0] = 60;
+  std::vector<MapPoint> outlines(4);
+  outlines[3].y_m = -1.5f;
+  content.sonar = &sonar;
+  content.sonar_map_triangles = &fans;
+  content.sonar_map_lines = &outlines;
+  content.sonar_echoes = 6;
+  content.sonar_unseen = 2;
+  content.possible_obstacles = 9;
+  content.flags = kFrameEdges | kFrameSonar;
   const std::string bytes = EncodeFrame(content);
   EXPECT_EQ(bytes.size() % 4, 0u);
 
@@ -67,6 +82,20 @@ TEST(EncodeFrameTest, RoundTripsEveryField) {
   EXPECT_FLOAT_EQ(f.map[1].x_m, 1.25f);
   EXPECT_FLOAT_EQ(f.map[1].y_m, -0.5f);
   EXPECT_EQ(f.map[1].rgba[2], 7);
+  ASSERT_EQ(f.sonar_triangles.size(), 3u);
+  EXPECT_FLOAT_EQ(f.sonar_triangles[1].v_px, 23);
+  EXPECT_EQ(f.sonar_triangles[2].rgba[0], 42);
+  ASSERT_EQ(f.sonar_lines.size(), 2u);
+  EXPECT_EQ(f.sonar_lines[1].rgba[0], 51);
+  ASSERT_EQ(f.sonar_map_triangles.size(), 3u);
+  EXPECT_FLOAT_EQ(f.sonar_map_triangles[2].x_m, 0.75f);
+  EXPECT_EQ(f.sonar_map_triangles[2].rgba[0], 60);
+  ASSERT_EQ(f.sonar_map_lines.size(), 4u);
+  EXPECT_FLOAT_EQ(f.sonar_map_lines[3].y_m, -1.5f);
+  EXPECT_EQ(f.sonar_echoes, 6);
+  EXPECT_EQ(f.sonar_unseen, 2);
+  EXPECT_EQ(f.possible_obstacles, 9u);
+  EXPECT_EQ(f.flags, kFrameEdges | kFrameSonar);
   EXPECT_EQ(f.labels_json, R"([{"u":100.0,"v":50.0,"c":"#00ff00","t":"1.35 m"}])");
   EXPECT_EQ(f.left_jpeg, std::string(left.begin(), left.end()));
   EXPECT_EQ(f.right_jpeg, std::string(right.begin(), right.end()));
@@ -81,6 +110,9 @@ TEST(EncodeFrameTest, LeftEyeOnlyAndNoOverlay) {
   testing::ReadFrame f;
   ASSERT_TRUE(testing::Read(EncodeFrame(content), &f));
   EXPECT_TRUE(f.triangles.empty());
+  EXPECT_TRUE(f.sonar_triangles.empty());
+  EXPECT_TRUE(f.sonar_map_lines.empty());
+  EXPECT_EQ(f.flags, 0u);
   EXPECT_EQ(f.labels_json, "[]");
   EXPECT_EQ(f.left_jpeg.size(), 1001u);
   EXPECT_TRUE(f.right_jpeg.empty());
@@ -117,6 +149,21 @@ TEST(EncodeHudTest, HoldsEveryFieldAsJson) {
   EXPECT_NE(json.find(R"("estop":true)"), std::string::npos) << json;
   EXPECT_NE(json.find(R"("warnings":["laser warn: slow"])"), std::string::npos) << json;
   EXPECT_NE(json.find(R"("browsers":3)"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("bumpers":{"segments":[],"alert":false)"), std::string::npos) << json;
+}
+
+TEST(EncodeHudTest, HoldsTheBumperBelt) {
+  HudState hud;
+  hud.bumper_segments = {"idle", "pressed", "latched"};
+  hud.bumper_alert = true;
+  hud.bumper_status = "BUMPER CONTACT: front-left - robot stopped";
+  hud.footprint_radius_m = 0.35;
+  const std::string json = EncodeHud(hud);
+  EXPECT_NE(json.find(R"("bumpers":{"segments":["idle","pressed","latched"],"alert":true,)"
+                      R"("stale":false,"status":"BUMPER CONTACT: front-left - robot stopped",)"
+                      R"("radius_m":0.350}})"),
+            std::string::npos)
+      << json;
 }
 
 }  // namespace

@@ -9,7 +9,10 @@ chromedriver drives headless Chromium to the page with an observer's token. Chec
      frame (vertices the server projected with the console's camera model), the screenshot's
      pixels move towards the wall colour compared with a screenshot with the overlay switched
      off (the robot stands still, so the image under it is the same);
-  3. mostar_web counted the frames it wrote and refused nothing.
+  3. edge processing runs in mostar_web: a frame that carries its own pair's edge result with
+     possible obstacles (the corridor's low box, under the laser's plane) is shown with a
+     magenta dot where the server put each one;
+  4. mostar_web counted the frames it wrote and refused nothing.
 Skips (77) only when chromium or chromedriver is missing.
 
 Usage: web_browser_test.py ROBOT_SERVER MOSTAR_WEB SOURCE_DIR [--screenshot PATH]
@@ -85,9 +88,26 @@ def main():
               "the robot's watchdog (%r) and e-stop (%r) are shown" % (h2["watchdog"], h2["estop"]))
         check(h2["age"].endswith(" ms"), "the frame age is shown (%r)" % h2["age"])
 
+        # Keep a frame with NEP dots on the page (frozen) while reading it and taking the
+        # screenshot.
+        wait_for("a frame shown with its edge result's possible obstacles",
+                 lambda: driver.js("if (window.mostar.obstacleDots().length === 0) return false;"
+                                   " window.mostar.freeze(true); return true;"), 60)
         centroids = driver.js("return window.mostar.wallCentroids(80)")
+        dots = driver.js("return window.mostar.obstacleDots()")
         check(len(centroids) >= 10, "the shown frame has wall triangles in the image (%d sampled)" % len(centroids))
         with_overlay = driver.screenshot_png()
+        driver.js("window.mostar.freeze(false)")
+        w, h, a = webtest.read_png(with_overlay)
+        magenta = 0
+        for d in dots:
+            x, y = int(round(d["x"])), int(round(d["y"]))
+            if any(r >= 200 and g <= 90 and b >= 200
+                   for yy in range(max(0, y - 1), min(h, y + 2)) for xx in range(max(0, x - 1), min(w, x + 2))
+                   for r, g, b in [a[yy][xx][:3]]):
+                magenta += 1
+        check(len(dots) >= 1 and magenta >= 0.7 * len(dots),
+              "%d of %d NEP dots of the frame's edge result are magenta in the screenshot" % (magenta, len(dots)))
         driver.js("document.getElementById('overlay').click()")
         shown = driver.js("return window.mostar.stats.framesShown")
         wait_for("3 frames without overlay",
@@ -100,7 +120,6 @@ def main():
             shutil.copyfile(path, screenshot_copy)
             print("screenshot written to", screenshot_copy)
 
-        w, h, a = webtest.read_png(with_overlay)
         _, _, b = webtest.read_png(without_overlay)
         towards = 0
         eligible = 0
@@ -127,6 +146,8 @@ def main():
         s = programs.stats()
         print("mostar_web stats:", s)
         check(s["frames_written"] >= 10 and s["frames_composed"] >= 10, "mostar_web composed and wrote frames")
+        check(s["frames_with_edges"] >= 1 and s["edge_failed"] == 0 and s["edge_undecodable"] == 0,
+              "mostar_web ran edge processing on the pairs (%d frames with their result)" % s["frames_with_edges"])
         check(s["token_refused"] == 0 and s["bad_frames"] == 0 and s["tls_failures"] == 0,
               "nothing refused in a clean session")
     except Exception as e:  # noqa: BLE001 - report and fail, never hang

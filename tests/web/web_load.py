@@ -6,6 +6,7 @@ of the frames on arrival (this machine's clock minus the capture stamp: one cloc
 and the CPU of mostar_web, robot_server and this load client. Not a test: nothing is asserted.
 
 Usage: web_load.py ROBOT_SERVER MOSTAR_WEB SOURCE_DIR [--clients 1,4,16] [--seconds 15]
+                   [--robot-source sim|test_pattern] [--edges on|off] [--header]
 """
 
 import argparse
@@ -47,9 +48,10 @@ class Observer(threading.Thread):
         self.ws.close()
 
 
-def run(robot_server, mostar_web, source, clients, seconds, robot_source):
+def run(robot_server, mostar_web, source, clients, seconds, robot_source, edges):
     server_args = ["--source", "test_pattern"] if robot_source == "test_pattern" else []
-    programs = webtest.Programs(robot_server, mostar_web, source, web_args=["--log-level", "warning"],
+    programs = webtest.Programs(robot_server, mostar_web, source,
+                                web_args=["--log-level", "warning", "--edges", edges],
                                 server_args=server_args)
     try:
         time.sleep(3)  # discovery, first frames
@@ -62,7 +64,9 @@ def run(robot_server, mostar_web, source, clients, seconds, robot_source):
         for o in observers:
             o.ages_ms.clear()
         cpu0 = [programs.cpu_seconds(programs.web), programs.cpu_seconds(programs.robot), time.process_time()]
-        composed0 = programs.stats(webtest.BENCH_TOKEN)["frames_composed"]
+        stats0 = programs.stats(webtest.BENCH_TOKEN)
+        composed0 = stats0["frames_composed"]
+        with_edges0 = stats0["frames_with_edges"]
         t0 = time.monotonic()
         for o in observers:
             o.join(seconds + 30)
@@ -70,6 +74,7 @@ def run(robot_server, mostar_web, source, clients, seconds, robot_source):
         cpu1 = [programs.cpu_seconds(programs.web), programs.cpu_seconds(programs.robot), time.process_time()]
         stats = programs.stats(webtest.BENCH_TOKEN)
         composed = stats["frames_composed"] - composed0
+        with_edges = stats["frames_with_edges"] - with_edges0
     finally:
         programs.stop()
         shutil.rmtree(programs.work, ignore_errors=True)
@@ -81,6 +86,9 @@ def run(robot_server, mostar_web, source, clients, seconds, robot_source):
             "age_p50": percentile(ages, 0.5), "age_p95": percentile(ages, 0.95),
             "web_cpu": cpu[0], "robot_cpu": cpu[1], "load_cpu": cpu[2],
             "composed_fps": composed / elapsed, "dropped": stats["frames_dropped"],
+            "with_edges": 100.0 * with_edges / max(1, composed),
+            "edge_ms": stats.get("edge_processing_ms", float("nan")),
+            "decode_ms": stats.get("edge_decode_ms", float("nan")),
             "errors": len(errors)}
 
 
@@ -94,15 +102,25 @@ def main():
     parser.add_argument("--robot-source", choices=["sim", "test_pattern"], default="sim",
                         help="robot_server's source: the simulator (renders the scene) or the "
                              "lighter test pattern")
+    parser.add_argument("--edges", choices=["on", "off"], default="on",
+                        help="mostar_web's edge processing (NEP dots)")
+    parser.add_argument("--header", action="store_true", help="print the table's header")
     args = parser.parse_args()
-    print("| source | observers | frames composed/s | fps each (min / mean) | age p50 ms | age p95 ms "
-          "| mostar_web CPU % | robot_server CPU % | load client CPU % | frames dropped for slow observers |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    if args.header:
+        print("| source | edges | observers | frames composed/s | fps each (min / mean) | age p50 ms "
+              "| age p95 ms | mostar_web CPU % | robot_server CPU % | load client CPU % "
+              "| frames dropped for slow observers | frames with their edge result % "
+              "| decode + edges ms (last pair) |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for n in [int(c) for c in args.clients.split(",")]:
-        r = run(args.robot_server, args.mostar_web, args.source, n, args.seconds, args.robot_source)
-        print("| %s | %d | %.1f | %.1f / %.1f | %.0f | %.0f | %.0f | %.0f | %.0f | %d |%s" % (
-            args.robot_source, n, r["composed_fps"], r["fps_min"], r["fps_mean"], r["age_p50"], r["age_p95"], r["web_cpu"], r["robot_cpu"],
-            r["load_cpu"], r["dropped"], " (%d observer errors)" % r["errors"] if r["errors"] else ""),
+        r = run(args.robot_server, args.mostar_web, args.source, n, args.seconds, args.robot_source,
+                args.edges)
+        edges = ("%.0f | %.0f + %.0f" % (r["with_edges"], r["decode_ms"], r["edge_ms"])
+                 if args.edges == "on" else "- | -")
+        print("| %s | %s | %d | %.1f | %.1f / %.1f | %.0f | %.0f | %.0f | %.0f | %.0f | %d | %s |%s" % (
+            args.robot_source, args.edges, n, r["composed_fps"], r["fps_min"], r["fps_mean"],
+            r["age_p50"], r["age_p95"], r["web_cpu"], r["robot_cpu"], r["load_cpu"], r["dropped"],
+            edges, " (%d observer errors)" % r["errors"] if r["errors"] else ""),
             flush=True)
     return 0
 

@@ -234,12 +234,17 @@ class WebSocket:
 def frame_header(payload):
     """Fields of a frame message's header (operator_client/web/web_messages.h)."""
     magic, header_bytes, sequence, w, h, stamp, scan_stamp = struct.unpack_from("<4sIIHHdd", payload)
-    if magic != b"MWF1":
+    if magic != b"MWF2":
         raise ValueError("not a frame")
     tri, lines, points, mapn, labels, left, right = struct.unpack_from("<7I", payload, 32)
+    sonar_tri, sonar_lines, sonar_map_tri, sonar_map_lines, echoes, unseen, obstacles, flags = \
+        struct.unpack_from("<4IHHII", payload, 64)
     return {"sequence": sequence, "width": w, "height": h, "stamp": stamp, "scan_stamp": scan_stamp,
-            "triangle_vertices": tri, "line_vertices": lines, "left_jpeg_bytes": left,
-            "right_jpeg_bytes": right}
+            "triangle_vertices": tri, "line_vertices": lines, "point_vertices": points,
+            "left_jpeg_bytes": left, "right_jpeg_bytes": right,
+            "sonar_triangle_vertices": sonar_tri, "sonar_line_vertices": sonar_lines,
+            "sonar_echoes": echoes, "sonar_unseen": unseen, "possible_obstacles": obstacles,
+            "edges": bool(flags & 1), "sonar": bool(flags & 2)}
 
 
 class WebDriver:
