@@ -87,6 +87,10 @@ bool MotionCompensationOptions::IsValid(std::string* error) const {
     *error = "max_scan_age must be > 0";
     return false;
   }
+  if (smoothing_window < Duration::zero() || smoothing_window > std::chrono::seconds(1)) {
+    *error = "smoothing_window must be in [0, 1] s";
+    return false;
+  }
   return true;
 }
 
@@ -156,7 +160,42 @@ Pose2D OdometryHistory::PoseAt(Time t, const MotionCompensationOptions& options,
   }
   *coverage = PoseCoverage::kInterpolated;
   const double s = ToSeconds(t - a.stamp) / ToSeconds(b.stamp - a.stamp);
-  return InterpolatePose(a.pose, b.pose, s);
+  Pose2D pose = InterpolatePose(a.pose, b.pose, s);
+  double heading = 0;
+  if (options.smoothing_window > Duration::zero() && SmoothedHeadingAt(t, options, &heading)) {
+    pose.theta_rad += WrapAngle(heading - pose.theta_rad);
+  }
+  return pose;
+}
+
+bool OdometryHistory::SmoothedHeadingAt(Time t, const MotionCompensationOptions& options,
+                                        double* rad) const {
+  const auto first =
+      std::lower_bound(samples_.begin(), samples_.end(), t - options.smoothing_window,
+                       [](const Odometry& held, Time stamp) { return held.stamp < stamp; });
+  const auto last =
+      std::upper_bound(samples_.begin(), samples_.end(), t + options.smoothing_window,
+                       [](Time stamp, const Odometry& held) { return stamp < held.stamp; });
+  if (last - first < 3) return false;
+  // Least-squares line in s = stamp - t (seconds); its intercept is the value at t.
+  double n = 0, ss = 0, sss = 0, sth = 0, ssth = 0;
+  double theta = first->pose.theta_rad;  // unwrapped along the window
+  for (auto it = first; it != last; ++it) {
+    if (it != first) {
+      if (it->stamp - (it - 1)->stamp > options.max_odometry_gap) return false;
+      theta += WrapAngle(it->pose.theta_rad - (it - 1)->pose.theta_rad);
+    }
+    const double s = ToSeconds(it->stamp - t);
+    n += 1;
+    ss += s;
+    sss += s * s;
+    sth += theta;
+    ssth += s * theta;
+  }
+  const double det = n * sss - ss * ss;
+  if (!(det > 0)) return false;
+  *rad = (sss * sth - ss * ssth) / det;
+  return true;
 }
 
 void MoveScanToImageTime(const LaserScan& scan, Time image_stamp, const OdometryHistory& odometry,
@@ -176,9 +215,11 @@ void MoveScanToImageTime(const LaserScan& scan, Time image_stamp, const Odometry
         LaserScan::IsValidRange(r) ? PlanarPoint{r * std::cos(a), r * std::sin(a)} : PlanarPoint{};
   }
   if (Abs(out->image_minus_scan) > options.max_scan_age) {
-    out->reason = "scan " +
-                  std::to_string(static_cast<int>(ToSeconds(out->image_minus_scan) * 1e3)) +
-                  " ms from the image";
+    out->reason =
+        "scan " +
+        std::to_string(
+            std::chrono::duration_cast<std::chrono::milliseconds>(out->image_minus_scan).count()) +
+        " ms from the image";
     return;
   }
   if (odometry.empty()) {

@@ -102,8 +102,15 @@ TEST(Se2Test, InterpolationTakesTheShortWayAcrossPi) {
   EXPECT_NEAR(std::abs(WrapAngle(p.theta_rad)), M_PI, 1e-9);
 }
 
-TEST(OdometryHistoryTest, InterpolatesBetweenSamplesAndRefusesGaps) {
+// Options with the arc interpolation alone (no smoothing).
+MotionCompensationOptions Interpolating() {
   MotionCompensationOptions options;
+  options.smoothing_window = Duration::zero();
+  return options;
+}
+
+TEST(OdometryHistoryTest, InterpolatesBetweenSamplesAndRefusesGaps) {
+  const MotionCompensationOptions options = Interpolating();
   OdometryHistory history(8);
   PoseCoverage coverage;
   history.PoseAt(kT0, options, &coverage);
@@ -123,7 +130,7 @@ TEST(OdometryHistoryTest, InterpolatesBetweenSamplesAndRefusesGaps) {
 }
 
 TEST(OdometryHistoryTest, ExtrapolationIsBounded) {
-  MotionCompensationOptions options;
+  MotionCompensationOptions options = Interpolating();
   options.max_extrapolation = std::chrono::milliseconds(60);
   OdometryHistory history(8);
   history.Add(ArcOdometry(0.5, 0.5, kT0));
@@ -144,7 +151,7 @@ TEST(OdometryHistoryTest, ExtrapolationIsBounded) {
 }
 
 TEST(OdometryHistoryTest, OutOfOrderAndDuplicateSamplesKeepStampOrder) {
-  MotionCompensationOptions options;
+  const MotionCompensationOptions options = Interpolating();
   OdometryHistory history(8);
   history.Add(ArcOdometry(1.0, 0.0, kT0 + std::chrono::milliseconds(40)));
   history.Add(ArcOdometry(1.0, 0.0, kT0));
@@ -159,6 +166,43 @@ TEST(OdometryHistoryTest, OutOfOrderAndDuplicateSamplesKeepStampOrder) {
   const Pose2D p = history.PoseAt(kT0 + std::chrono::milliseconds(10), options, &coverage);
   EXPECT_EQ(coverage, PoseCoverage::kInterpolated);
   EXPECT_NEAR(p.x_m, 0.015, 1e-9);  // halfway to the replacement
+}
+
+TEST(OdometryHistoryTest, SmoothingIsExactForConstantVelocityAndEvensOutTicks) {
+  const MotionCompensationOptions plain = Interpolating();
+  MotionCompensationOptions smooth;
+  smooth.smoothing_window = std::chrono::milliseconds(60);
+  const double w = 0.5;
+  constexpr double kTickRad = 0.0022;  // heading in whole ticks, as encoders give it
+  OdometryHistory exact(256);
+  OdometryHistory ticks(256);
+  for (Time t = kT0; t <= kT0 + std::chrono::seconds(2); t += kOdometryPeriod) {
+    Odometry o = ArcOdometry(0.0, w, t);
+    exact.Add(o);
+    o.pose.theta_rad = std::round(o.pose.theta_rad / kTickRad) * kTickRad;
+    ticks.Add(o);
+  }
+  double plain_sq = 0, smooth_sq = 0;
+  PoseCoverage coverage;
+  for (int k = 0; k < 200; ++k) {
+    const Time a = kT0 + std::chrono::milliseconds(300) + k * std::chrono::milliseconds(7);
+    const Time b = a + std::chrono::milliseconds(50);
+    const double truth = w * 0.05;
+    const double e =
+        exact.PoseAt(b, smooth, &coverage).theta_rad - exact.PoseAt(a, smooth, &coverage).theta_rad;
+    ASSERT_EQ(coverage, PoseCoverage::kInterpolated);
+    EXPECT_NEAR(e, truth, 1e-9);
+    const double p =
+        ticks.PoseAt(b, plain, &coverage).theta_rad - ticks.PoseAt(a, plain, &coverage).theta_rad;
+    const double s =
+        ticks.PoseAt(b, smooth, &coverage).theta_rad - ticks.PoseAt(a, smooth, &coverage).theta_rad;
+    plain_sq += (p - truth) * (p - truth);
+    smooth_sq += (s - truth) * (s - truth);
+  }
+  const double plain_rms = std::sqrt(plain_sq / 200);
+  const double smooth_rms = std::sqrt(smooth_sq / 200);
+  EXPECT_GT(plain_rms, 0.25 * kTickRad);
+  EXPECT_LT(smooth_rms, 0.7 * plain_rms);
 }
 
 TEST(OdometryHistoryTest, MemoryIsBounded) {

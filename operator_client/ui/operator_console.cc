@@ -35,7 +35,7 @@ OperatorConsole::~OperatorConsole() = default;
 
 bool OperatorConsole::Init(std::string* error) {
   if (!eyes_[0].Init(error) || !eyes_[1].Init(error) || !compositor_.Init(error)) return false;
-  if (!options_.ar.IsValid(error)) return false;
+  if (!options_.ar.IsValid(error) || !options_.motion.IsValid(error)) return false;
   ar_builders_.emplace(options_.ar);
   if (!options_.calibration.IsValid(error)) return false;
   // The stereo alignment saved beside the calibration in its profile.
@@ -187,9 +187,14 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
                                    const std::optional<LaserScan>& scan,
                                    render::OverlayGeometry* overlay, fusion::ArFeatures* features,
                                    fusion::SonarFeatures* sonar) {
+  motion_ = {};
   if (scan) {
     std::string error;
-    OverlayBuilder(&error).Build(*scan, features);
+    // The scan at the shown image's capture time (robot clock), moved with the odometry.
+    const std::optional<client::DecodedStereoPair>& pair = picker_.shown_pair();
+    fusion::MovedScan* moved = options_.motion.enabled && pair ? &moved_ : nullptr;
+    if (moved) robot_->MoveScanToImageTime(*scan, pair->stamp, options_.motion.compensation, moved);
+    motion_ = BuildOverlayFeatures(OverlayBuilder(&error), *scan, moved, options_.motion, features);
     if (!error.empty()) status_line_ = "AR options: " + error;
   }
   // The belt cycles at about 5 Hz: a cycle older than a second no longer shows where things are.
@@ -361,6 +366,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.pending_estop = commands_->pending_estop();
     hud.sonar_echoes = sonar.echoes;
     hud.sonar_unseen = sonar.unseen;
+    hud.overlay_note = MotionOverlayNote(motion_);
     DrawHudPanel(robot, video_->Stats(), hud, clock_->SteadyNow());
   }
   if (options_.show_map) {

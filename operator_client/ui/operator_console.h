@@ -30,6 +30,7 @@
 #include "operator_client/ui/intrinsics_adoption.h"
 #include "operator_client/ui/latency_trace.h"
 #include "operator_client/ui/lease_client.h"
+#include "operator_client/ui/motion_overlay.h"
 #include "operator_client/ui/pair_capture.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
 #include "operator_client/ui/stereo_hint.h"
@@ -58,6 +59,7 @@ struct ConsoleOptions {
   fusion::ArFeatureOptions ar;
   fusion::SonarFeatureOptions sonar;  // colours and floor from `ar`
   fusion::PredictedPathOptions path;
+  MotionOverlayOptions motion;  // each scan drawn at its image's capture time
   DriveLimits drive;
   // Edge processing (thesis 8, 9.2): NEPs correct the overlay, mark obstacles the laser
   // missed and confirm outliers. Toggled with E; thresholds in the edge view (V).
@@ -95,6 +97,8 @@ class OperatorConsole {
   // Sonar sectors of the last frame drawn: echoes, and those the laser does not see.
   size_t sonar_echoes() const { return sonar_echoes_; }
   size_t sonar_unseen() const { return sonar_unseen_; }
+  // The scan of the last frame drawn: moved to its image's time, or faded and why.
+  const MotionOverlayStatus& motion() const { return motion_; }
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
@@ -189,6 +193,8 @@ class OperatorConsole {
   size_t sonar_echoes_ = 0;
   size_t sonar_unseen_ = 0;
   double display_age_ms_ = 0;
+  fusion::MovedScan moved_;  // the last scan moved to its image's time (reused)
+  MotionOverlayStatus motion_;
 };
 
 }  // namespace mostar::ui
