@@ -1,8 +1,7 @@
 // What the operator knows about the robot besides video: recent scans (to match each image with
 // the scan nearest in time), recent odometry (to move a scan to an image's time), the latest
-// health, lease, odometry, sonar cycle and bumper state,
-// and the clock offset to the robot. Written from DDS threads, read by the render loop.
-// Thread-safe.
+// health, lease, odometry, sonar cycle and bumper state, and the clock offset to the robot.
+// Written from DDS threads, read by the render loop. Thread-safe.
 #pragma once
 
 #include <deque>
@@ -25,7 +24,7 @@ namespace mostar::client {
 struct RobotSnapshot {
   std::optional<RobotHealth> health;
   std::optional<ControlLease> lease;
-  std::optional<Odometry> odometry;
+  std::optional<Odometry> odometry;  // the newest by stamp
   std::optional<LaserScan> latest_scan;
   std::optional<SonarRanges> sonar;                     // the latest belt cycle
   std::optional<BumperState> bumpers;                   // the latest bumper state
