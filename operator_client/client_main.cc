@@ -276,7 +276,9 @@ int Run(int argc, char** argv) {
     std::cout << " captured_stamp_ns=" << ToUnixNanos(*console.captured_stamp());
   }
   std::cout << " sonar_echoes=" << console.sonar_echoes()
-            << " sonar_unseen=" << console.sonar_unseen();
+            << " sonar_unseen=" << console.sonar_unseen()
+            << " overlays_moved=" << console.shown().overlays_moved()
+            << " overlays_faded=" << console.shown().overlays_faded();
   for (const ui::LatencyRow& row : console.latency().Rows()) {
     std::cout << " latency_" << row.name << "_ms_p50=" << row.p50_ms << " latency_" << row.name
               << "_ms_p95=" << row.p95_ms;

@@ -32,6 +32,15 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
     *error = "ar: " + *error;
     return false;
   }
+  options->motion.enabled = ar.motion_compensation();
+  options->motion.compensation.max_extrapolation =
+      FromMilliseconds(ar.motion_max_extrapolation_ms());
+  options->motion.compensation.smoothing_window =
+      FromMilliseconds(ar.motion_heading_smoothing_ms());
+  if (!options->motion.IsValid(error)) {
+    *error = "ar: motion: " + *error;
+    return false;
+  }
   options->intrinsics_from_robot = config.intrinsics_from_robot();
   options->vision_enabled = config.vision_enabled();
   options->vision = vision::FromProto(config.vision());

@@ -21,12 +21,16 @@ TEST(ClientOptionsTest, ShippedSimConfigGivesValidOptionsWithItsCalibration) {
   }
   EXPECT_TRUE(options.calibration.IsValid(&error)) << error;
   EXPECT_TRUE(options.ar.IsValid(&error)) << error;
+  EXPECT_TRUE(options.motion.enabled) << "on by default";
 }
 
 TEST(ClientOptionsTest, ConfigValuesReachTheConsole) {
   ClientConfig config;
   config.mutable_ar()->set_min_distance_m(0.7);
   config.mutable_ar()->set_circles(false);
+  config.mutable_ar()->set_motion_compensation(false);
+  config.mutable_ar()->set_motion_max_extrapolation_ms(30);
+  config.mutable_ar()->set_motion_heading_smoothing_ms(0);
   config.set_vision_enabled(false);
   config.set_intrinsics_from_robot(false);
   config.mutable_drive()->set_max_linear_mps(0.25);
@@ -35,6 +39,9 @@ TEST(ClientOptionsTest, ConfigValuesReachTheConsole) {
   ASSERT_TRUE(ConsoleOptionsFromConfig(config, "", &options, &error)) << error;
   EXPECT_FLOAT_EQ(options.ar.min_distance_m, 0.7f);
   EXPECT_FALSE(options.ar.circles_enabled);
+  EXPECT_FALSE(options.motion.enabled);
+  EXPECT_EQ(options.motion.compensation.max_extrapolation, std::chrono::milliseconds(30));
+  EXPECT_EQ(options.motion.compensation.smoothing_window, Duration::zero());
   EXPECT_FALSE(options.vision_enabled);
   EXPECT_FALSE(options.intrinsics_from_robot);
   EXPECT_DOUBLE_EQ(options.drive.max_linear_mps, 0.25);

@@ -132,6 +132,7 @@ TEST(ShippedConfigTest, ThesisClientTurnsEveryExtensionOff) {
   std::string error;
   ASSERT_TRUE(LoadTextConfig(dir + "/client_thesis.pbtxt", &c, &error)) << error;
   EXPECT_FALSE(c.intrinsics_from_robot());
+  EXPECT_FALSE(c.ar().motion_compensation());
   math::LaserCameraCalibration calibration;
   ASSERT_TRUE(
       math::LoadCalibrationProfile(dir + "/" + c.calibration_profile(), &calibration, &error))

@@ -117,6 +117,18 @@ ArFeatures ArFeatureBuilder::Build(const LaserScan& scan) const {
 }
 
 void ArFeatureBuilder::Build(const LaserScan& scan, ArFeatures* features) const {
+  BuildFrom(scan, nullptr, features);
+}
+
+void ArFeatureBuilder::Build(const LaserScan& scan, const std::vector<PlanarPoint>& beam_points,
+                             ArFeatures* features) const {
+  MOSTAR_CHECK(beam_points.size() == scan.ranges_m.size())
+      << beam_points.size() << " points for " << scan.ranges_m.size() << " beams";
+  BuildFrom(scan, &beam_points, features);
+}
+
+void ArFeatureBuilder::BuildFrom(const LaserScan& scan, const std::vector<PlanarPoint>* beam_points,
+                                 ArFeatures* features) const {
   const ArFeatureOptions& o = options_;
   const size_t n = scan.ranges_m.size();
   features->scan_sequence = scan.sequence;
@@ -135,7 +147,11 @@ void ArFeatureBuilder::Build(const LaserScan& scan, ArFeatures* features) const 
     p.at_discontinuity = p.valid && seg.AtDiscontinuity(i);
     p.potential_outlier = seg.potential_outlier[i] != 0;
     p.cluster = -1;
-    if (p.valid) {
+    if (p.valid && beam_points != nullptr) {
+      p.x_m = (*beam_points)[i].x_m;
+      p.y_m = (*beam_points)[i].y_m;
+      p.color = DistanceColor(range, o.min_distance_m, o.max_distance_m);
+    } else if (p.valid) {
       p.x_m = range * std::cos(angle);
       p.y_m = range * std::sin(angle);
       p.color = DistanceColor(range, o.min_distance_m, o.max_distance_m);

@@ -112,9 +112,17 @@ class ArFeatureBuilder {
   // allocate in steady state). Never fails: invalid beams are labelled and counted, an empty scan
   // gives empty geometry (circles still drawn).
   void Build(const LaserScan& scan, ArFeatures* features) const;
+  // The same, with each valid beam drawn at `beam_points[i]` instead of where its range and
+  // angle put it (a scan moved to an image's time, motion_compensation.h). Colours, labels and
+  // discontinuities still come from the measured ranges. `beam_points` has one point per beam
+  // (asserted).
+  void Build(const LaserScan& scan, const std::vector<PlanarPoint>& beam_points,
+             ArFeatures* features) const;
   ArFeatures Build(const LaserScan& scan) const;
 
  private:
+  void BuildFrom(const LaserScan& scan, const std::vector<PlanarPoint>* beam_points,
+                 ArFeatures* features) const;
   void BuildLabels(ArFeatures* features) const;
 
   ArFeatureOptions options_;

@@ -16,6 +16,13 @@ struct Rgba {
   Rgba WithAlpha(float alpha) const { return Rgba{r, g, b, alpha}; }
 };
 
+// A point in the scan plane (laser frame, which is the base frame raised to the laser; x
+// forward, y left; metres).
+struct PlanarPoint {
+  float x_m = 0.f;
+  float y_m = 0.f;
+};
+
 // Interleaving-free vertex arrays, ready for glBufferData: `positions` holds x, y, z per vertex
 // (laser frame, metres) and `colors` r, g, b, a per vertex. The primitive type (points, lines,
 // triangles) is stated where the array is produced.

@@ -27,8 +27,18 @@ void RobotState::SetLease(const ControlLease& lease) {
 
 void RobotState::SetOdometry(const Odometry& odometry) {
   std::lock_guard<std::mutex> lock(mutex_);
-  snapshot_.odometry = odometry;
+  if (!snapshot_.odometry || odometry.stamp >= snapshot_.odometry->stamp) {
+    snapshot_.odometry = odometry;
+  }
   snapshot_.last_odometry_received = clock_->SteadyNow();
+  odometry_.Add(odometry);
+}
+
+void RobotState::MoveScanToImageTime(const LaserScan& scan, Time image_stamp,
+                                     const fusion::MotionCompensationOptions& options,
+                                     fusion::MovedScan* out) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  fusion::MoveScanToImageTime(scan, image_stamp, odometry_, options, out);
 }
 
 void RobotState::SetSonar(const SonarRanges& sonar) {

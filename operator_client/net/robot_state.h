@@ -1,7 +1,7 @@
 // What the operator knows about the robot besides video: recent scans (to match each image with
-// the scan nearest in time), the latest health, lease, odometry, sonar cycle and bumper state,
-// and the clock offset to the robot. Written from DDS threads, read by the render loop.
-// Thread-safe.
+// the scan nearest in time), recent odometry (to move a scan to an image's time), the latest
+// health, lease, odometry, sonar cycle and bumper state, and the clock offset to the robot.
+// Written from DDS threads, read by the render loop. Thread-safe.
 #pragma once
 
 #include <deque>
@@ -17,13 +17,14 @@
 #include "common/types/odometry.h"
 #include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
+#include "operator_client/fusion/motion_compensation.h"
 
 namespace mostar::client {
 
 struct RobotSnapshot {
   std::optional<RobotHealth> health;
   std::optional<ControlLease> lease;
-  std::optional<Odometry> odometry;
+  std::optional<Odometry> odometry;  // the newest by stamp
   std::optional<LaserScan> latest_scan;
   std::optional<SonarRanges> sonar;                     // the latest belt cycle
   std::optional<BumperState> bumpers;                   // the latest bumper state
@@ -67,6 +68,12 @@ class RobotState {
   // The scan whose stamp is nearest to `stamp` (robot clock), among those stamped within
   // kScanHistory of the newest (at most kMaxScans: 3.4 s at the LMS200's 75 Hz).
   std::optional<LaserScan> NearestScan(Time stamp) const;
+  // `scan`'s beams in the base frame at `image_stamp` (robot clock), moved with the odometry
+  // received (the last kOdometryHistory samples; fusion::MoveScanToImageTime).
+  void MoveScanToImageTime(const LaserScan& scan, Time image_stamp,
+                           const fusion::MotionCompensationOptions& options,
+                           fusion::MovedScan* out) const;
+  static constexpr size_t kOdometryHistory = 256;  // 5 s at the robot's 50 Hz
   RobotSnapshot Snapshot() const;
   // The e-stop state of the latest health (nullopt before the first), and in `received` when
   // that health arrived here. Cheaper than Snapshot(), for the command thread.
@@ -77,6 +84,7 @@ class RobotState {
   mutable std::mutex mutex_;
   std::deque<LaserScan> scans_;
   std::deque<FrameTiming> timings_;
+  fusion::OdometryHistory odometry_{kOdometryHistory};
   mutable RateMeter scan_rate_;
   timesync::ClockOffsetEstimator offset_;
   RobotSnapshot snapshot_;

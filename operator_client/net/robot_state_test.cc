@@ -26,6 +26,36 @@ TEST(RobotStateTest, NearestScanByStamp) {
   EXPECT_EQ(state.NearestScan(t0 - std::chrono::seconds(5))->ranges_m[0], 1);
 }
 
+TEST(RobotStateTest, OdometryHistoryMovesAScanToTheImageTime) {
+  FakeClock clock;
+  RobotState state(&clock);
+  const Time t0 = clock.Now();
+  const LaserScan scan = ScanAt(t0 + std::chrono::milliseconds(100), 2);  // one beam, ahead
+  fusion::MovedScan moved;
+  state.MoveScanToImageTime(scan, t0 + std::chrono::milliseconds(150), {}, &moved);
+  EXPECT_FALSE(moved.moved);  // no odometry yet
+  // Driving ahead at 1 m/s, odometry at 50 Hz, delivered out of order.
+  for (int i : {1, 0, 3, 2, 5, 4, 7, 6, 9, 8}) {
+    Odometry o;
+    o.stamp = t0 + i * std::chrono::milliseconds(20);
+    o.pose.x_m = 0.02 * i;
+    o.linear_mps = 1.0;
+    state.SetOdometry(o);
+  }
+  EXPECT_EQ(state.Snapshot().odometry->stamp, t0 + std::chrono::milliseconds(180));
+  state.MoveScanToImageTime(scan, t0 + std::chrono::milliseconds(150), {}, &moved);
+  ASSERT_TRUE(moved.moved) << moved.reason;
+  EXPECT_NEAR(moved.points[0].x_m, 1.95, 1e-6);  // 5 cm nearer 50 ms later
+  // Memory stays bounded however long the robot drives.
+  for (int i = 10; i < 2000; ++i) {
+    Odometry o;
+    o.stamp = t0 + i * std::chrono::milliseconds(20);
+    state.SetOdometry(o);
+  }
+  state.MoveScanToImageTime(scan, t0 + std::chrono::milliseconds(150), {}, &moved);
+  EXPECT_FALSE(moved.moved);  // those samples are gone
+}
+
 TEST(RobotStateTest, EstopStateOfTheLatestHealthWithItsArrival) {
   FakeClock clock;
   RobotState state(&clock);

@@ -3,6 +3,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <utility>
+
 namespace mostar::ui {
 
 bool ConsoleKeys::Pressed(GLFWwindow* window, int key) {
@@ -49,6 +51,17 @@ ConsoleInput ConsoleKeys::Poll(GLFWwindow* w, bool typing) {
     in.drive.gamepad_deadman = pad.buttons[GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER] == GLFW_PRESS;
   }
   return in;
+}
+
+void ApplyToggles(const ConsoleInput& in, const ViewSwitches& s) {
+  const std::pair<bool, bool*> toggles[] = {
+      {in.toggle_help, s.help},     {in.toggle_calibration, s.calibration_panel},
+      {in.toggle_hud, s.hud},       {in.toggle_map, s.map},
+      {in.toggle_sonar, s.sonar},   {in.toggle_latency, s.latency},
+      {in.toggle_vision, s.vision}, {in.toggle_edge_view, s.edge_view}};
+  for (const auto& [pressed, value] : toggles) {
+    if (pressed && value) *value = !*value;
+  }
 }
 
 }  // namespace mostar::ui

@@ -33,6 +33,20 @@ struct ConsoleInput {
   DriveInputState drive;                    // arrows/WASD and gamepad
 };
 
+// The view switches the keys flip; each pointer may be null (that key does nothing).
+struct ViewSwitches {
+  bool* help = nullptr;
+  bool* calibration_panel = nullptr;
+  bool* hud = nullptr;
+  bool* map = nullptr;
+  bool* sonar = nullptr;
+  bool* latency = nullptr;
+  bool* vision = nullptr;
+  bool* edge_view = nullptr;
+};
+// Flips the switch of every toggle key pressed in `in`.
+void ApplyToggles(const ConsoleInput& in, const ViewSwitches& switches);
+
 class ConsoleKeys {
  public:
   // `typing`: a text field has the keyboard (ImGui): no key acts and drive keys read as up.

@@ -34,7 +34,7 @@ OperatorConsole::~OperatorConsole() = default;
 
 bool OperatorConsole::Init(std::string* error) {
   if (!eyes_[0].Init(error) || !eyes_[1].Init(error) || !compositor_.Init(error)) return false;
-  if (!options_.ar.IsValid(error)) return false;
+  if (!options_.ar.IsValid(error) || !options_.motion.IsValid(error)) return false;
   ar_builders_.emplace(options_.ar);
   if (!options_.calibration.IsValid(error)) return false;
   // The stereo alignment saved beside the calibration in its profile.
@@ -71,14 +71,9 @@ void OperatorConsole::AdoptRobotIntrinsics(const client::RobotSnapshot& robot) {
 void OperatorConsole::HandleInput() {
   const ConsoleInput in = keys_.Poll(window_->get(), imgui_ && imgui_->WantsKeyboard());
   if (in.quit) window_->RequestClose();
-  if (in.toggle_help) show_help_ = !show_help_;
-  if (in.toggle_calibration) options_.show_calibration_panel = !options_.show_calibration_panel;
-  if (in.toggle_hud) options_.show_hud = !options_.show_hud;
-  if (in.toggle_map) options_.show_map = !options_.show_map;
-  if (in.toggle_sonar) options_.sonar.enabled = !options_.sonar.enabled;
-  if (in.toggle_latency) show_latency_ = !show_latency_;
-  if (in.toggle_vision) options_.vision_enabled = !options_.vision_enabled;
-  if (in.toggle_edge_view) show_edge_view_ = !show_edge_view_;
+  ApplyToggles(
+      in, {&show_help_, &options_.show_calibration_panel, &options_.show_hud, &options_.show_map,
+           &options_.sonar.enabled, &show_latency_, &options_.vision_enabled, &show_edge_view_});
   if (in.mode) options_.mode = *in.mode;
   if (in.take_control) lease_.Take();
   if (in.release_control) Send(lease_.Release());
@@ -112,18 +107,15 @@ std::optional<client::DecodedStereoPair> OperatorConsole::CaptureFilter(
                           clock_->SteadyNow());
 }
 
-math::LaserCameraCalibration OperatorConsole::EyeCalibration(math::Eye eye,
-                                                             const client::RobotSnapshot& robot) {
-  const bool own = options_.alignment_model == render::AlignmentModel::kPerEyeIntrinsics &&
-                   eye == math::Eye::kRight && options_.intrinsics_from_robot;
-  return own ? RightEyeCalibration(options_.calibration, robot.right_intrinsics)
-             : options_.calibration;
-}
-
 void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
   std::string error;
+  // With per-eye intrinsics the right eye takes the robot's right intrinsics when valid.
+  const bool own_right = options_.alignment_model == render::AlignmentModel::kPerEyeIntrinsics &&
+                         options_.intrinsics_from_robot;
   const bool changed = geometry_.Update(
-      EyeCalibration(math::Eye::kLeft, robot), EyeCalibration(math::Eye::kRight, robot),
+      options_.calibration,
+      own_right ? RightEyeCalibration(options_.calibration, robot.right_intrinsics)
+                : options_.calibration,
       options_.alignment_model, options_.left_alignment, options_.right_alignment, &error);
   if (!error.empty()) status_line_ = "alignment: " + error;
   // The calibration without offsets was checked in Init: there is always a geometry.
@@ -152,9 +144,14 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
                                    const std::optional<LaserScan>& scan,
                                    render::OverlayGeometry* overlay, fusion::ArFeatures* features,
                                    fusion::SonarFeatures* sonar) {
+  motion_ = {};
   if (scan) {
     std::string error;
-    OverlayBuilder(&error).Build(*scan, features);
+    // The scan at the shown image's capture time (robot clock), moved with the odometry.
+    const std::optional<client::DecodedStereoPair>& pair = vision_->picker().shown_pair();
+    fusion::MovedScan* moved = options_.motion.enabled && pair ? &moved_ : nullptr;
+    if (moved) robot_->MoveScanToImageTime(*scan, pair->stamp, options_.motion.compensation, moved);
+    motion_ = BuildOverlayFeatures(OverlayBuilder(&error), *scan, moved, options_.motion, features);
     if (!error.empty()) status_line_ = "AR options: " + error;
   }
   fusion::ArFeatureOptions colors = options_.ar;
@@ -234,6 +231,7 @@ bool OperatorConsole::Frame() {
   if (new_pair) {
     const RobotTimeMapper to_robot(clock_->Now(), clock_->SteadyNow(), robot.clock);
     shown_.Add(ToSeconds(to_robot(drawn) - pair->stamp) * 1e3, frame_time_ms_);  // capture to drawn
+    shown_.CountOverlay(motion_.moved, motion_.faded);
     latency_.Add(tracer_.Timeline({pair->sequence, pair->stamp, pair->received, pair->decoded},
                                   robot_->TimingOf(pair->stamp), {start, drawn, presented},
                                   options_.vision_enabled, to_robot));
@@ -266,6 +264,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.pending_estop = commands_->pending_estop();
     hud.sonar_echoes = sonar.echoes;
     hud.sonar_unseen = sonar.unseen;
+    hud.overlay_note = MotionOverlayNote(motion_);
     DrawHudPanel(robot, video_->Stats(), hud, clock_->SteadyNow());
   }
   if (options_.show_map) {

@@ -30,6 +30,7 @@
 #include "operator_client/ui/intrinsics_adoption.h"
 #include "operator_client/ui/latency_trace.h"
 #include "operator_client/ui/lease_client.h"
+#include "operator_client/ui/motion_overlay.h"
 #include "operator_client/ui/pair_capture.h"
 #include "operator_client/ui/pair_tracer.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
@@ -60,6 +61,7 @@ struct ConsoleOptions {
   fusion::ArFeatureOptions ar;
   fusion::SonarFeatureOptions sonar;  // colours and floor from `ar`
   fusion::PredictedPathOptions path;
+  MotionOverlayOptions motion;  // each scan drawn at its image's capture time
   DriveLimits drive;
   // Edge processing (thesis 8, 9.2): NEPs correct the overlay, mark obstacles the laser
   // missed and confirm outliers. Toggled with E; thresholds in the edge view (V).
@@ -101,6 +103,9 @@ class OperatorConsole {
   // Sonar sectors of the last frame drawn: echoes, and those the laser does not see.
   size_t sonar_echoes() const { return sonar_echoes_; }
   size_t sonar_unseen() const { return sonar_unseen_; }
+  // The scan of the last frame drawn: moved to its image's time, or faded and why.
+  const MotionOverlayStatus& motion() const { return motion_; }
+  const ShownPairStats& shown() const { return shown_; }
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }
@@ -122,9 +127,6 @@ class OperatorConsole {
   // While capturing: the captured pair once it may be shown, else nothing.
   std::optional<client::DecodedStereoPair> CaptureFilter(
       const std::optional<client::DecodedStereoPair>& latest);
-  // The calibration of one eye: the shared one, or with per-eye intrinsics the right eye's own
-  // intrinsics from the robot when it publishes valid ones.
-  math::LaserCameraCalibration EyeCalibration(math::Eye eye, const client::RobotSnapshot& robot);
   // Rebuilds both eyes' geometry when the calibration, the alignment or its model changed; an
   // invalid combination keeps the previous geometry and says why on the status line.
   void RefreshGeometry(const client::RobotSnapshot& robot);
@@ -179,6 +181,8 @@ class OperatorConsole {
   bool show_latency_ = false;
   size_t sonar_echoes_ = 0;
   size_t sonar_unseen_ = 0;
+  fusion::MovedScan moved_;  // the last scan moved to its image's time (reused)
+  MotionOverlayStatus motion_;
 };
 
 }  // namespace mostar::ui

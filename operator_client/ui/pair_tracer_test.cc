@@ -91,6 +91,11 @@ TEST(ShownPairStatsTest, PercentilesOfShownPairsAndZeroWhenNone) {
   EXPECT_EQ(stats.FrameTimePercentileMs(95), 195.0);
   EXPECT_EQ(stats.last_display_age_ms(), 100.0);
   EXPECT_EQ(stats.added(), 100u);
+  stats.CountOverlay(true, false);
+  stats.CountOverlay(false, true);
+  stats.CountOverlay(false, false);  // compensation off: neither
+  EXPECT_EQ(stats.overlays_moved(), 1u);
+  EXPECT_EQ(stats.overlays_faded(), 1u);
 }
 
 }  // namespace

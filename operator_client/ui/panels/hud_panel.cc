@@ -84,6 +84,9 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
                        "sonar: %zu of %zu echoes where the laser sees nothing", status.sonar_unseen,
                        status.sonar_echoes);
   }
+  if (!status.overlay_note.empty()) {
+    ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s", status.overlay_note.c_str());
+  }
   if (status.pending_estop) {
     ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "e-stop %s sent, not yet confirmed by the robot",
                        *status.pending_estop ? "engage" : "release");

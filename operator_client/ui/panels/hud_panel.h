@@ -1,6 +1,6 @@
 // The heads-up display (top left): video and scan rates, display age, link health, the pilot
 // and watchdog, device problems, bumper contacts (flashing), sonar echoes the laser misses, the
-// drive command and the status line. ImGui; render thread.
+// drive command, a faded overlay's reason and the status line. ImGui; render thread.
 #pragma once
 
 #include <optional>
@@ -33,6 +33,8 @@ struct HudStatus {
   // Sonar sectors of the shown overlay: echoes, and those the laser does not see.
   size_t sonar_echoes = 0;
   size_t sonar_unseen = 0;
+  // The overlay is drawn faded (not at the image's time) and why; empty otherwise.
+  std::string overlay_note;
 };
 
 // `now`: steady time, for the ages of the last samples.
