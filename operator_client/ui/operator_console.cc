@@ -135,9 +135,12 @@ math::LaserCameraCalibration OperatorConsole::EyeCalibration(math::Eye eye,
 
 void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
   std::string error;
+  image_scale_ = ScaleOfPair(options_.calibration, video_->Latest(), image_scale_);
   const bool changed = geometry_.Update(
-      EyeCalibration(math::Eye::kLeft, robot), EyeCalibration(math::Eye::kRight, robot),
-      options_.alignment_model, options_.left_alignment, options_.right_alignment, &error);
+      ScaledCalibration(EyeCalibration(math::Eye::kLeft, robot), image_scale_),
+      ScaledCalibration(EyeCalibration(math::Eye::kRight, robot), image_scale_),
+      options_.alignment_model, ScaledAlignment(options_.left_alignment, image_scale_),
+      ScaledAlignment(options_.right_alignment, image_scale_), &error);
   if (!error.empty()) status_line_ = "alignment: " + error;
   // The calibration without offsets was checked in Init: there is always a geometry.
   MOSTAR_CHECK(geometry_.ready()) << error;
@@ -217,6 +220,11 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
 
 bool OperatorConsole::Frame() {
   Window::PollEvents();
+  int fb_w = 0;
+  int fb_h = 0;
+  window_->FramebufferSize(&fb_w, &fb_h);
+  video_->SetDecodeTarget(
+      DecodeTargetFor(options_.mode, fb_w, fb_h, options_.vision_enabled, options_.vision.stereo));
   {
     const client::RobotSnapshot snapshot = robot_->Snapshot();
     Send(lease_.Update(snapshot.lease, clock_->SteadyNow()));
@@ -252,12 +260,10 @@ bool OperatorConsole::Frame() {
   for (int e = 0; e < 2; ++e) {
     static const cv::Mat kEmpty;
     const cv::Mat& image = pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
-    eyes_[e].Render(image, render::MakeEyeView(geometry_.eye(e)), overlay,
-                    e == 0 ? options_.left_alignment : options_.right_alignment);
+    eyes_[e].Render(
+        image, render::MakeEyeView(geometry_.eye(e)), overlay,
+        ScaledAlignment(e == 0 ? options_.left_alignment : options_.right_alignment, image_scale_));
   }
-  int fb_w = 0;
-  int fb_h = 0;
-  window_->FramebufferSize(&fb_w, &fb_h);
   compositor_.Compose(options_.mode, eyes_[0].texture(), eyes_[1].texture(), fb_w, fb_h,
                       window_->quad_buffer());
   imgui_->BeginFrame();
@@ -332,8 +338,10 @@ std::optional<StereoOffsetHint> OperatorConsole::OffsetHint() const {
   const vision::StereoOffsetEstimate& estimate = result->nesc.offset;
   return hint_gate_.Hint(
       result->sequence, estimate,
-      render::SuggestedRightOffsetY(geometry_.eye(0), geometry_.eye(1), options_.left_alignment,
-                                    estimate.vertical_offset_px));
+      render::SuggestedRightOffsetY(geometry_.eye(0), geometry_.eye(1),
+                                    ScaledAlignment(options_.left_alignment, image_scale_),
+                                    estimate.vertical_offset_px) /
+          static_cast<float>(image_scale_.y));  // in the profile's pixels
 }
 
 void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,

@@ -24,6 +24,7 @@
 #include "operator_client/ui/ar_builder_cache.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/console_input.h"
+#include "operator_client/ui/decode_scaling.h"
 #include "operator_client/ui/drive_input.h"
 #include "operator_client/ui/frame_picker.h"
 #include "operator_client/ui/imgui_layer.h"
@@ -164,6 +165,7 @@ class OperatorConsole {
   // Each eye's image and display models (eye_geometry.h); the image models are shared with the
   // edge worker (its ray cache) until the geometry changes.
   render::StereoGeometry geometry_;  // both eyes, rebuilt when an input changes
+  ImageScale image_scale_;  // the decoded images against the calibration; geometry_ uses it
   std::shared_ptr<const math::CameraModel> left_model_;
   std::shared_ptr<const math::CameraModel> right_model_;
   uint64_t last_submitted_ = 0;  // sequence of the last pair handed to the edge worker
