@@ -250,11 +250,11 @@ TEST_F(EndToEndTest, TheNativeResolutionIsDecodedAtTheWindowSizeAndMonoDecodesOn
     out << "calibration_profile: \"" << Source("deploy/config/calibration_sim.pbtxt")
         << "\"\nvision_enabled: false\n";
   }
-  ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
-                            domain_, "--id", "observer", "--role", "observer", "--config", config,
-                            "--display", "mono-left", "--duration", "8", "--screenshot",
-                            dir_ + "/native.png"},
-                           dir_ + "/client.log", &error))
+  ASSERT_TRUE(
+      client.Start({Bin("operator_client/operator_client"), "--headless", "--domain", domain_,
+                    "--id", "observer", "--role", "observer", "--config", config, "--display",
+                    "mono-left", "--duration", "8", "--screenshot", dir_ + "/native.png"},
+                   dir_ + "/client.log", &error))
       << error;
   const std::optional<int> client_exit = client.Wait(std::chrono::seconds(90));
   ASSERT_TRUE(client_exit.has_value()) << "client hung";
