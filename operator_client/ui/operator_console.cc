@@ -71,7 +71,8 @@ void OperatorConsole::AdoptRobotIntrinsics(const client::RobotSnapshot& robot) {
   if (result.outcome == IntrinsicsAdopter::Outcome::kAdopted) {
     const CameraIntrinsicsInfo& k = *robot.left_intrinsics;
     MOSTAR_LOG(INFO) << "using the robot's camera intrinsics: f " << k.fx << "/" << k.fy
-                     << " px, principal point (" << k.cx << ", " << k.cy << ")";
+                     << " px, principal point (" << k.cx << ", " << k.cy << ") for " << k.width_px
+                     << "x" << k.height_px << " images";
   }
 }
 
