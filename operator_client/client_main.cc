@@ -285,7 +285,8 @@ int Run(int argc, char** argv) {
   }
   std::cout << " oversized_images=" << stats.oversized_images
             << " future_pairs=" << stats.future_dropped << " stamp_resyncs=" << stats.stamp_resyncs
-            << "\n";
+            << " left_decodes=" << stats.left_decodes << " right_decodes=" << stats.right_decodes
+            << " scaled_decodes=" << stats.scaled_decodes << "\n";
   return capture && !console.captured() ? 1 : 0;
 }
 

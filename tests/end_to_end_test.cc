@@ -233,6 +233,58 @@ TEST_F(EndToEndTest, SonarSectorsShowTheGlassDoorTheLaserSeesThrough) {
   EXPECT_GE(cv::countNonZero(magenta), 100) << "no magenta sonar outline in " << dir_;
 }
 
+// The simulator at the cameras' native 1280x960 (deploy/config/server_sim_1280.pbtxt) and a
+// client whose window shows one eye at 640x480 (mono-left, the 640x480 calibration profile):
+// the left eye is decoded at 1/2, the right one not at all, and the overlay is drawn.
+TEST_F(EndToEndTest, TheNativeResolutionIsDecodedAtTheWindowSizeAndMonoDecodesOneEye) {
+  Subprocess server;
+  std::string error;
+  ASSERT_TRUE(server.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+                            Source("deploy/config/server_sim_1280.pbtxt")},
+                           dir_ + "/server.log", &error))
+      << error;
+  Subprocess client;
+  const std::string config = dir_ + "/client.pbtxt";
+  {
+    std::ofstream out(config);
+    out << "calibration_profile: \"" << Source("deploy/config/calibration_sim.pbtxt")
+        << "\"\nvision_enabled: false\n";
+  }
+  ASSERT_TRUE(
+      client.Start({Bin("operator_client/operator_client"), "--headless", "--domain", domain_,
+                    "--id", "observer", "--role", "observer", "--config", config, "--display",
+                    "mono-left", "--duration", "8", "--screenshot", dir_ + "/native.png"},
+                   dir_ + "/client.log", &error))
+      << error;
+  const std::optional<int> client_exit = client.Wait(std::chrono::seconds(90));
+  ASSERT_TRUE(client_exit.has_value()) << "client hung";
+  server.Signal(SIGTERM);
+  ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value()) << "server did not stop";
+  const std::string report = testing::ReadFile(dir_ + "/client.log");
+  ASSERT_EQ(*client_exit, 0) << report;
+  auto value = [&](const std::string& key) {
+    const size_t at = report.find(" " + key + "=");
+    EXPECT_NE(at, std::string::npos) << key << " missing in " << report;
+    return at == std::string::npos ? -1 : std::stoi(report.substr(at + key.size() + 2));
+  };
+  const int pairs = value("pairs_decoded");
+  EXPECT_GE(pairs, 30) << report;
+  EXPECT_EQ(value("left_decodes"), pairs) << report;
+  EXPECT_EQ(value("right_decodes"), 0) << "mono-left without edge processing: " << report;
+  // Every decode after the first frames (before the window size reached the decoder) is scaled.
+  EXPECT_GE(value("scaled_decodes"), pairs - 5) << report;
+  EXPECT_EQ(value("oversized_images"), 0) << report;
+  EXPECT_EQ(value("broken_images"), 0) << report;
+  const cv::Mat shot = cv::imread(dir_ + "/native.png", cv::IMREAD_COLOR);
+  ASSERT_FALSE(shot.empty()) << "no screenshot in " << dir_;
+  EXPECT_EQ(shot.cols, 640);
+  EXPECT_EQ(shot.rows, 480);
+  const ScreenshotContent content = Analyse(shot);
+  EXPECT_GT(content.grey_stddev, 10.0) << "a uniform frame: no video was drawn";
+  EXPECT_GE(content.overlay_pixels, kMinOverlayShare * shot.cols * (shot.rows / 2))
+      << "no AR overlay in the lower half of " << dir_ << "/native.png";
+}
+
 TEST_F(EndToEndTest, BadFlagsAndConfigGiveClearErrors) {
   Subprocess server;
   std::string error;

@@ -12,9 +12,10 @@
 
 namespace mostar::ui {
 
-// `calibration` with the intrinsics `k`; false with a message (and `out` untouched) when `k`
-// is for another image size or gives an invalid calibration. Missing distortion coefficients
-// count as zero.
+// `calibration` with the intrinsics `k`, scaled into the calibration's image size when `k` is
+// for another size of the same aspect ratio; false with a message (and `out` untouched) when
+// `k` is for another aspect ratio or gives an invalid calibration. Missing distortion
+// coefficients count as zero.
 bool WithRobotIntrinsics(const math::LaserCameraCalibration& calibration,
                          const CameraIntrinsicsInfo& k, math::LaserCameraCalibration* out,
                          std::string* error);
@@ -35,7 +36,8 @@ class IntrinsicsAdopter {
   };
   struct Result {
     Outcome outcome = Outcome::kNothingNew;
-    std::string message;  // for the status line when refused
+    // Refused: why (for the status line); adopted: what is used now (for the log).
+    std::string message;
   };
 
   Result Apply(const std::optional<CameraIntrinsicsInfo>& intrinsics,

@@ -53,14 +53,36 @@ TEST(WithRobotIntrinsicsTest, TheRightEyeTakesItsOwnValidIntrinsicsElseTheShared
   EXPECT_EQ(RightEyeCalibration(shared, other_size).fx(), shared.fx());
 }
 
-TEST(WithRobotIntrinsicsTest, RefusesIntrinsicsForAnotherImageSize) {
-  CameraIntrinsicsInfo k = Intrinsics(600);
+TEST(WithRobotIntrinsicsTest, ScalesTheNativeSizeIntoTheProfilesPixels) {
+  // The same camera at 1280x960: twice the focal length, pixel centres at 2 (c + 0.5) - 0.5.
+  CameraIntrinsicsInfo k = Intrinsics(1200);
+  k.fy = 1204;
+  k.cx = 2 * (321.5 + 0.5) - 0.5;
+  k.cy = 2 * (238.25 + 0.5) - 0.5;
   k.width_px = 1280;
   k.height_px = 960;
+  math::LaserCameraCalibration out;
+  std::string error;
+  ASSERT_TRUE(WithRobotIntrinsics(Calibration(), k, &out, &error)) << error;
+  EXPECT_EQ(out.image_width_px, 640);
+  EXPECT_EQ(out.image_height_px, 480);
+  EXPECT_DOUBLE_EQ(out.fx(), 600);
+  EXPECT_DOUBLE_EQ(out.fy(), 602);
+  EXPECT_DOUBLE_EQ(out.cx(), 321.5);
+  EXPECT_DOUBLE_EQ(out.cy(), 238.25);
+  EXPECT_EQ(out.distortion.k1, -0.1);  // normalised coordinates: unchanged
+}
+
+TEST(WithRobotIntrinsicsTest, RefusesIntrinsicsOfAnotherAspectRatio) {
+  CameraIntrinsicsInfo k = Intrinsics(600);
+  k.width_px = 1280;
+  k.height_px = 720;
   math::LaserCameraCalibration out = Calibration();
   std::string error;
   EXPECT_FALSE(WithRobotIntrinsics(Calibration(), k, &out, &error));
-  EXPECT_EQ(error, "robot intrinsics are for 1280x960 images: not used");
+  EXPECT_EQ(error,
+            "robot intrinsics are for 1280x720 images, not of the aspect ratio of 640x480: not "
+            "used");
   EXPECT_EQ(out.focal_px, Calibration().focal_px);
 }
 
@@ -76,7 +98,10 @@ TEST(IntrinsicsAdopterTest, AdoptsEachNewSetOnce) {
   IntrinsicsAdopter adopter;
   math::LaserCameraCalibration c = Calibration();
   EXPECT_EQ(adopter.Apply(std::nullopt, &c).outcome, IntrinsicsAdopter::Outcome::kNothingNew);
-  EXPECT_EQ(adopter.Apply(Intrinsics(600), &c).outcome, IntrinsicsAdopter::Outcome::kAdopted);
+  const IntrinsicsAdopter::Result adopted = adopter.Apply(Intrinsics(600), &c);
+  EXPECT_EQ(adopted.outcome, IntrinsicsAdopter::Outcome::kAdopted);
+  EXPECT_NE(adopted.message.find("f 600/602 px"), std::string::npos) << adopted.message;
+  EXPECT_NE(adopted.message.find("640x480"), std::string::npos) << adopted.message;
   EXPECT_EQ(c.focal_px, 600);
   // The operator edits the focal length: the same published set does not overwrite it again.
   c.focal_px = 555;

@@ -61,11 +61,7 @@ void OperatorConsole::AdoptRobotIntrinsics(const client::RobotSnapshot& robot) {
   const IntrinsicsAdopter::Result result =
       intrinsics_.Apply(robot.left_intrinsics, &options_.calibration);
   if (result.outcome == IntrinsicsAdopter::Outcome::kRefused) status_line_ = result.message;
-  if (result.outcome == IntrinsicsAdopter::Outcome::kAdopted) {
-    const CameraIntrinsicsInfo& k = *robot.left_intrinsics;
-    MOSTAR_LOG(INFO) << "using the robot's camera intrinsics: f " << k.fx << "/" << k.fy
-                     << " px, principal point (" << k.cx << ", " << k.cy << ")";
-  }
+  if (result.outcome == IntrinsicsAdopter::Outcome::kAdopted) MOSTAR_LOG(INFO) << result.message;
 }
 
 void OperatorConsole::HandleInput() {
@@ -109,14 +105,15 @@ std::optional<client::DecodedStereoPair> OperatorConsole::CaptureFilter(
 
 void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
   std::string error;
+  image_scale_ = ScaleOfPair(options_.calibration, video_->Latest(), image_scale_);
   // With per-eye intrinsics the right eye takes the robot's right intrinsics when valid.
   const bool own_right = options_.alignment_model == render::AlignmentModel::kPerEyeIntrinsics &&
                          options_.intrinsics_from_robot;
+  const auto [left, right] = ScaledEyeCalibrations(
+      options_.calibration, own_right ? robot.right_intrinsics : std::nullopt, image_scale_);
   const bool changed = geometry_.Update(
-      options_.calibration,
-      own_right ? RightEyeCalibration(options_.calibration, robot.right_intrinsics)
-                : options_.calibration,
-      options_.alignment_model, options_.left_alignment, options_.right_alignment, &error);
+      left, right, options_.alignment_model, ScaledAlignment(options_.left_alignment, image_scale_),
+      ScaledAlignment(options_.right_alignment, image_scale_), &error);
   if (!error.empty()) status_line_ = "alignment: " + error;
   // The calibration without offsets was checked in Init: there is always a geometry.
   MOSTAR_CHECK(geometry_.ready()) << error;
@@ -174,6 +171,11 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
 
 bool OperatorConsole::Frame() {
   Window::PollEvents();
+  int fb_w = 0;
+  int fb_h = 0;
+  window_->FramebufferSize(&fb_w, &fb_h);
+  video_->SetDecodeTarget(
+      DecodeTargetFor(options_.mode, fb_w, fb_h, options_.vision_enabled, options_.vision.stereo));
   {
     const client::RobotSnapshot snapshot = robot_->Snapshot();
     Send(lease_.Update(snapshot.lease, clock_->SteadyNow()));
@@ -204,12 +206,10 @@ bool OperatorConsole::Frame() {
   for (int e = 0; e < 2; ++e) {
     static const cv::Mat kEmpty;
     const cv::Mat& image = pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
-    eyes_[e].Render(image, render::MakeEyeView(geometry_.eye(e)), overlay,
-                    e == 0 ? options_.left_alignment : options_.right_alignment);
+    eyes_[e].Render(
+        image, render::MakeEyeView(geometry_.eye(e)), overlay,
+        ScaledAlignment(e == 0 ? options_.left_alignment : options_.right_alignment, image_scale_));
   }
-  int fb_w = 0;
-  int fb_h = 0;
-  window_->FramebufferSize(&fb_w, &fb_h);
   compositor_.Compose(options_.mode, eyes_[0].texture(), eyes_[1].texture(), fb_w, fb_h,
                       window_->quad_buffer());
   imgui_->BeginFrame();
@@ -278,9 +278,8 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
                           &options_.left_alignment, &options_.right_alignment,
                           &options_.alignment_model, &options_.mode, &status_line_},
                          vision_->OffsetHint([this](double residual_px) {
-                           return render::SuggestedRightOffsetY(geometry_.eye(0), geometry_.eye(1),
-                                                                options_.left_alignment,
-                                                                residual_px);
+                           return SuggestedRightOffsetInProfile(geometry_, options_.left_alignment,
+                                                                image_scale_, residual_px);
                          }));
   }
   if (show_edge_view_) {

@@ -24,6 +24,7 @@
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/console_input.h"
 #include "operator_client/ui/console_vision.h"
+#include "operator_client/ui/decode_scaling.h"
 #include "operator_client/ui/drive_input.h"
 #include "operator_client/ui/frame_picker.h"
 #include "operator_client/ui/imgui_layer.h"
@@ -163,7 +164,8 @@ class OperatorConsole {
 
   // Each eye's image and display models (eye_geometry.h); the image models are shared with the
   // edge worker (its ray cache) until the geometry changes.
-  render::StereoGeometry geometry_;        // both eyes, rebuilt when an input changes
+  render::StereoGeometry geometry_;  // both eyes, rebuilt when an input changes
+  ImageScale image_scale_;  // the decoded images against the calibration; geometry_ uses it
   std::unique_ptr<ConsoleVision> vision_;  // from Init()
   std::optional<PairCapture> capture_;
 

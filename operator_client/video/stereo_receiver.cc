@@ -1,26 +1,15 @@
 #include "operator_client/video/stereo_receiver.h"
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 
 #include "common/log/log.h"
+#include "operator_client/video/jpeg_decoder.h"
 #include "operator_client/video/jpeg_header.h"
 
 namespace mostar::client {
 
 namespace {
 constexpr size_t kMaxPending = 8;  // per eye; older unpaired images are dropped
-
-cv::Mat Decode(const CompressedImage& image) {
-  if (image.data.empty()) return {};
-  try {
-    return cv::imdecode(cv::Mat(1, static_cast<int>(image.data.size()), CV_8UC1,
-                                const_cast<uint8_t*>(image.data.data())),
-                        cv::IMREAD_COLOR);
-  } catch (const cv::Exception&) {
-    return {};
-  }
-}
 }  // namespace
 
 StereoReceiver::StereoReceiver(const Clock* clock, const StereoReceiverOptions& options)
@@ -42,6 +31,11 @@ void StereoReceiver::SetExpectedSize(Eye eye, int width_px, int height_px) {
   const int e = eye == Eye::kLeft ? 0 : 1;
   expected_width_px_[e] = std::max(width_px, 0);
   expected_height_px_[e] = std::max(height_px, 0);
+}
+
+void StereoReceiver::SetDecodeTarget(const DecodeTarget& target) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  target_ = target;
 }
 
 void StereoReceiver::SetClockOffset(const timesync::ClockOffsetEstimate& robot_minus_local) {
@@ -124,26 +118,48 @@ void StereoReceiver::Push(Eye eye, const CompressedImage& image) {
 }
 
 void StereoReceiver::DecodeLoop() {
+  JpegDecoder decoder;
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     cv_.wait(lock, [this] { return stop_ || to_decode_.has_value(); });
     if (stop_) return;
     CompressedStereoPair pair = std::move(*to_decode_);
     const SteadyTime received = to_decode_received_;
+    const DecodeTarget target = target_;
     to_decode_.reset();
     lock.unlock();
     DecodedStereoPair decoded;
     decoded.stamp = pair.left.stamp;
     decoded.received = received;
-    decoded.left = Decode(pair.left);
-    decoded.right = Decode(pair.right);
     decoded.compressed_bytes = pair.left.data.size() + pair.right.data.size();
-    const bool broken = decoded.left.empty() || decoded.right.empty();
+    // Push() read both headers: these reads succeed unless the data is broken.
+    JpegHeader header;
+    bool broken = !ReadJpegHeader(pair.left.data.data(), pair.left.data.size(), &header, nullptr);
+    if (!broken) {
+      decoded.source_width_px = header.width_px;
+      decoded.source_height_px = header.height_px;
+      decoded.scale_denominator = DecodeScaleDenominator(header.width_px, header.height_px,
+                                                         target.width_px, target.height_px);
+    }
+    int decodes[2] = {0, 0};
+    std::string why;
+    for (int e = 0; e < 2 && !broken; ++e) {
+      const CompressedImage& image = e == 0 ? pair.left : pair.right;
+      if (!(e == 0 ? target.left : target.right) || image.data.empty()) continue;
+      ++decodes[e];
+      broken = !decoder.Decode(image.data.data(), image.data.size(), decoded.scale_denominator,
+                               e == 0 ? &decoded.left : &decoded.right, &why);
+    }
     decoded.decoded = clock_->SteadyNow();
     lock.lock();
+    stats_.left_decodes += static_cast<uint64_t>(decodes[0]);
+    stats_.right_decodes += static_cast<uint64_t>(decodes[1]);
+    if (decoded.scale_denominator > 1) {
+      stats_.scaled_decodes += static_cast<uint64_t>(decodes[0] + decodes[1]);
+    }
     if (broken) {
       ++stats_.broken_images;
-      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "undecodable JPEG in the pair stamped "
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "undecodable JPEG (" << why << ") in the pair stamped "
                                        << ToIso8601(pair.left.stamp) << ": pair dropped";
       continue;
     }

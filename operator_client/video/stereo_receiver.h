@@ -7,7 +7,9 @@
 // max_width_px x max_height_px) is refused and counted before anything is decoded. A broken
 // JPEG is counted and dropped with its pair; nothing else is lost. Pairs are shown in capture
 // order and a pair stamped in the future is refused (PairStampGate): a pair completed after a
-// newer one (the robot keeps several pairs in flight) is dropped and counted. Thread-safe.
+// newer one (the robot keeps several pairs in flight) is dropped and counted. The decoder
+// decodes only the eyes its DecodeTarget asks for, at the smallest DCT scale (1, 1/2, 1/4,
+// 1/8) that still covers the target size, the same scale for both eyes. Thread-safe.
 #pragma once
 
 #include <condition_variable>
@@ -31,9 +33,29 @@ struct DecodedStereoPair {
   Time stamp;             // capture stamp shared by both eyes
   SteadyTime received;    // when the pair became complete here (monotonic)
   SteadyTime decoded;     // when both eyes were decoded (monotonic)
-  cv::Mat left;           // BGR8
-  cv::Mat right;          // BGR8; may be empty when the robot sends one eye only
+  cv::Mat left;           // BGR8; empty when not asked for (DecodeTarget)
+  cv::Mat right;          // BGR8; empty when not asked for, or when the robot sends one eye
+  // The images are decoded at 1/scale_denominator (1, 2, 4 or 8) of the size sent, which is
+  // source_width_px x source_height_px (the left eye's; both eyes have the same size). An
+  // image pixel u maps to a sent pixel (u + 0.5) * scale - 0.5 (libjpeg's scaled size is
+  // ceil(size / scale), exact when the size is a multiple of the scale).
+  int scale_denominator = 1;
+  int source_width_px = 0;
+  int source_height_px = 0;
   size_t compressed_bytes = 0;
+};
+
+// What the decoder produces: which eyes, and the size they are shown at (an eye's viewport in
+// the window, in framebuffer pixels), to which the decode scales down. width_px or height_px
+// <= 0: full size.
+struct DecodeTarget {
+  bool left = true;
+  bool right = true;
+  int width_px = 0;
+  int height_px = 0;
+  bool operator==(const DecodeTarget& o) const {
+    return left == o.left && right == o.right && width_px == o.width_px && height_px == o.height_px;
+  }
 };
 
 struct ReceiverStats {
@@ -47,6 +69,9 @@ struct ReceiverStats {
   uint64_t future_dropped = 0;    // a pair stamped in the future (PairStampGate)
   uint64_t stamp_resyncs = 0;     // the capture order restarted (PairStampGate)
   uint64_t bytes = 0;             // compressed bytes received
+  uint64_t left_decodes = 0;      // JPEG decodes run for each eye (broken ones included)
+  uint64_t right_decodes = 0;
+  uint64_t scaled_decodes = 0;  // of those, decoded at a DCT scale below 1
   double pair_rate_hz = 0;
   double bitrate_bps = 0;
 };
@@ -70,6 +95,8 @@ class StereoReceiver {
   // The size of one eye's images from the robot's CameraInfo; images that declare more are
   // refused. Zero or negative: unknown (the fixed limit applies).
   void SetExpectedSize(Eye eye, int width_px, int height_px);
+  // Which eyes to decode and the size they are shown at; applies from the next pair decoded.
+  void SetDecodeTarget(const DecodeTarget& target);
   // The robot's clock minus this machine's, for judging stamps from the future.
   void SetClockOffset(const timesync::ClockOffsetEstimate& robot_minus_local);
   // The newest decoded pair, if any (shares pixel memory; treat as read-only).
@@ -85,6 +112,7 @@ class StereoReceiver {
   int expected_width_px_[2] = {0, 0};  // by Eye; 0 = unknown
   int expected_height_px_[2] = {0, 0};
   PairStampGate gate_;
+  DecodeTarget target_;
   std::condition_variable cv_;
   bool stop_ = false;
   std::map<int64_t, CompressedImage> pending_left_;  // by stamp (ns), waiting for the partner

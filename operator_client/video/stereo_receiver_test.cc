@@ -182,5 +182,82 @@ TEST(StereoReceiverTest, AFuturePairBeforeTheOffsetIsKnownFreezesTheVideoOnlyBri
   EXPECT_EQ(stats.late_dropped, 19u);
 }
 
+TEST(StereoReceiverTest, APairShownSmallerThanItWasSentIsDecodedAtTheDisplayedSize) {
+  StereoReceiver receiver;
+  DecodeTarget target;
+  target.width_px = 700;  // an eye viewport of 700 x 500: 640 x 480 would not cover it
+  target.height_px = 500;
+  receiver.SetDecodeTarget(target);
+  const Time t = FromUnixNanos(1'000'000'000);
+  receiver.Push(Eye::kLeft, WithData(t, testing::EncodeJpeg(1280, 960, 40)));
+  receiver.Push(Eye::kRight, WithData(t, testing::EncodeJpeg(1280, 960, 200)));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 1; }));
+  DecodedStereoPair pair = *receiver.Latest();
+  EXPECT_EQ(pair.scale_denominator, 1);  // 640 x 480 would be smaller than the viewport
+  EXPECT_EQ(pair.left.cols, 1280);
+  EXPECT_EQ(receiver.Stats().scaled_decodes, 0u);
+
+  target.width_px = 640;
+  target.height_px = 480;
+  receiver.SetDecodeTarget(target);
+  const Time t2 = t + std::chrono::milliseconds(33);
+  receiver.Push(Eye::kLeft, WithData(t2, testing::EncodeJpeg(1280, 960, 40)));
+  receiver.Push(Eye::kRight, WithData(t2, testing::EncodeJpeg(1280, 960, 200)));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 2; }));
+  pair = *receiver.Latest();
+  EXPECT_EQ(pair.scale_denominator, 2);
+  EXPECT_EQ(pair.source_width_px, 1280);
+  EXPECT_EQ(pair.source_height_px, 960);
+  EXPECT_EQ(pair.left.cols, 640);
+  EXPECT_EQ(pair.left.rows, 480);
+  EXPECT_EQ(pair.right.cols, 640);
+  EXPECT_EQ(pair.right.rows, 480);
+  EXPECT_LT(pair.left.at<cv::Vec3b>(100, 100)[0], 60);
+  EXPECT_GT(pair.right.at<cv::Vec3b>(100, 100)[0], 180);
+  EXPECT_EQ(receiver.Stats().scaled_decodes, 2u);
+}
+
+TEST(StereoReceiverTest, MonoDecodesOnlyTheShownEye) {
+  StereoReceiver receiver;
+  DecodeTarget left_only;
+  left_only.right = false;
+  receiver.SetDecodeTarget(left_only);
+  for (int i = 1; i <= 3; ++i) {
+    const Time t = FromUnixNanos(i * 33'000'000);
+    receiver.Push(Eye::kLeft, Jpeg(t, 40));
+    receiver.Push(Eye::kRight, Jpeg(t, 200));
+    ASSERT_TRUE(
+        WaitFor([&] { return receiver.Stats().pairs_decoded == static_cast<uint64_t>(i); }));
+  }
+  DecodedStereoPair pair = *receiver.Latest();
+  EXPECT_EQ(pair.left.cols, 64);
+  EXPECT_TRUE(pair.right.empty());
+  ReceiverStats stats = receiver.Stats();
+  EXPECT_EQ(stats.left_decodes, 3u);
+  EXPECT_EQ(stats.right_decodes, 0u);
+
+  DecodeTarget right_only;
+  right_only.left = false;
+  receiver.SetDecodeTarget(right_only);
+  receiver.Push(Eye::kLeft, Jpeg(FromUnixNanos(200'000'000), 40));
+  receiver.Push(Eye::kRight, Jpeg(FromUnixNanos(200'000'000), 200));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 4; }));
+  pair = *receiver.Latest();
+  EXPECT_TRUE(pair.left.empty());
+  EXPECT_GT(pair.right.at<cv::Vec3b>(10, 10)[0], 180);
+  stats = receiver.Stats();
+  EXPECT_EQ(stats.left_decodes, 3u);
+  EXPECT_EQ(stats.right_decodes, 1u);
+
+  receiver.SetDecodeTarget(DecodeTarget{});  // a stereo mode: both
+  receiver.Push(Eye::kLeft, Jpeg(FromUnixNanos(300'000'000), 40));
+  receiver.Push(Eye::kRight, Jpeg(FromUnixNanos(300'000'000), 200));
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().pairs_decoded == 5; }));
+  stats = receiver.Stats();
+  EXPECT_EQ(stats.left_decodes, 4u);
+  EXPECT_EQ(stats.right_decodes, 2u);
+  EXPECT_FALSE(receiver.Latest()->right.empty());
+}
+
 }  // namespace
 }  // namespace mostar::client

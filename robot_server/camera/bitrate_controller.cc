@@ -55,6 +55,19 @@ bool BitrateControllerOptions::IsValid(std::string* error) const {
   return true;
 }
 
+std::vector<double> DefaultScaleLadder(int width_px) {
+  constexpr double kMinWidthPx = 320;
+  std::vector<double> scales = {1.0};
+  for (double half = 1.0; half * width_px > kMinWidthPx;) {
+    if (0.75 * half * width_px < kMinWidthPx) break;
+    scales.push_back(0.75 * half);
+    half *= 0.5;
+    if (half * width_px < kMinWidthPx) break;
+    scales.push_back(half);
+  }
+  return scales;
+}
+
 BitrateController::BitrateController(const BitrateControllerOptions& options)
     : options_(options), quality_(options.initial_quality) {
   stats_.target_bits_per_s = options_.target_bits_per_s;

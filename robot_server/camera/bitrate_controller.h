@@ -34,11 +34,12 @@
 namespace mostar::camera {
 
 struct BitrateControllerOptions {
-  double target_bits_per_s = 0;                   // 0 = unlimited (LAN)
-  int min_quality = 30;                           // 1..max_quality
-  int max_quality = 90;                           // min_quality..100
-  int initial_quality = 80;                       // min_quality..max_quality
-  std::vector<double> scales = {1.0, 0.75, 0.5};  // resolution ladder, decreasing, in (0, 1]
+  double target_bits_per_s = 0;  // 0 = unlimited (LAN)
+  int min_quality = 30;          // 1..max_quality
+  int max_quality = 90;          // min_quality..100
+  int initial_quality = 80;      // min_quality..max_quality
+  // Resolution ladder, decreasing, in (0, 1]; DefaultScaleLadder(width) for the camera's width.
+  std::vector<double> scales = {1.0, 0.75, 0.5};
   int max_frame_rate_divisor = 4;                 // >= 1; 1 = never reduce the frame rate
   double headroom = 0.9;                          // aim at this fraction of the target, (0, 1]
   int control_interval_pairs = 3;                 // >= 1
@@ -48,6 +49,12 @@ struct BitrateControllerOptions {
   double min_link_bits_per_s = 500e3;             // floor of the ack-clock estimate, > 0
   bool IsValid(std::string* error) const;
 };
+
+// The resolution ladder for images `width_px` wide when none is configured: 1, 0.75, then each
+// further halving and the 3/4 step before it, down to no less than 320 px wide (so that every
+// camera ends its ladder at about 320x240): 640 -> 1, 0.75, 0.5; 1280 (the native 1280x960) ->
+// 1, 0.75, 0.5, 0.375, 0.25. At least {1} for any width.
+std::vector<double> DefaultScaleLadder(int width_px);
 
 struct EncodeSettings {
   JpegSettings jpeg;

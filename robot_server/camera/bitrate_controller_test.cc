@@ -229,5 +229,45 @@ TEST(BitrateControllerTest, OptionsValidationNamesTheProblem) {
   EXPECT_NE(error.find("quality"), std::string::npos);
 }
 
+TEST(DefaultScaleLadderTest, EndsAtAbout320PixelsWideWhateverTheCamera) {
+  EXPECT_EQ(DefaultScaleLadder(640), (std::vector<double>{1.0, 0.75, 0.5}));
+  EXPECT_EQ(DefaultScaleLadder(1280), (std::vector<double>{1.0, 0.75, 0.5, 0.375, 0.25}));
+  EXPECT_EQ(DefaultScaleLadder(320), (std::vector<double>{1.0}));
+  EXPECT_EQ(DefaultScaleLadder(100), (std::vector<double>{1.0}));
+  EXPECT_EQ(DefaultScaleLadder(960), (std::vector<double>{1.0, 0.75, 0.5, 0.375}));  // to 360 px
+  for (int width : {320, 640, 800, 1024, 1280, 1600, 2048}) {
+    BitrateControllerOptions options;
+    options.scales = DefaultScaleLadder(width);
+    std::string error;
+    EXPECT_TRUE(options.IsValid(&error)) << width << ": " << error;
+    EXPECT_GE(options.scales.back() * width, 320) << width;
+  }
+}
+
+TEST(BitrateControllerTest, ANative1280x960CameraEndsItsLadderWhereA640x480OneDoes) {
+  // The same scene at both sizes: bytes grow with the pixels sent.
+  const auto bytes_for_width = [](int width) {
+    return [width](const EncodeSettings& settings) {
+      EncodeSettings at_640 = settings;
+      at_640.jpeg.scale = settings.jpeg.scale * width / 640.0;
+      return ModelPairBytes(at_640);
+    };
+  };
+  BitrateStats end[2];
+  const int widths[2] = {640, 1280};
+  for (int i = 0; i < 2; ++i) {
+    BitrateControllerOptions options;
+    options.target_bits_per_s = 1e6;
+    options.scales = DefaultScaleLadder(widths[i]);
+    BitrateController controller(options);
+    const RunResult result = Simulate(&controller, 40, bytes_for_width(widths[i]));
+    EXPECT_LE(result.tail_offered_bits_per_s, 1e6 * 1.05) << widths[i];
+    end[i] = result.stats;
+  }
+  EXPECT_DOUBLE_EQ(end[0].scale * 640, 320);
+  EXPECT_DOUBLE_EQ(end[1].scale * 1280, 320);
+  EXPECT_EQ(end[0].frame_rate_divisor, end[1].frame_rate_divisor);
+}
+
 }  // namespace
 }  // namespace mostar::camera

@@ -32,6 +32,8 @@ CameraPipelineOptions MakePipelineOptions(const CameraConfig& config) {
       std::clamp(config.jpeg_quality(), bitrate.min_quality(), bitrate.max_quality());
   if (bitrate.scales_size() > 0) {
     controller.scales.assign(bitrate.scales().begin(), bitrate.scales().end());
+  } else {
+    controller.scales = DefaultScaleLadder(config.width_px());
   }
   controller.max_frame_rate_divisor = bitrate.max_frame_rate_divisor();
   controller.headroom = bitrate.headroom();

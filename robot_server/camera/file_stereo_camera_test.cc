@@ -29,10 +29,10 @@ class FileStereoCameraTest : public ::testing::Test {
 
   // Writes `count` PNG pairs left_NNN.png / right_NNN.png; pixel (0,0) blue = index (left)
   // or 100 + index (right).
-  void WritePairs(int count) {
+  void WritePairs(int count, int width = 80, int height = 60) {
     for (int i = 0; i < count; ++i) {
-      cv::Mat left = MakeSyntheticImage(80, 60, static_cast<uint64_t>(i), false);
-      cv::Mat right = MakeSyntheticImage(80, 60, static_cast<uint64_t>(i), true);
+      cv::Mat left = MakeSyntheticImage(width, height, static_cast<uint64_t>(i), false);
+      cv::Mat right = MakeSyntheticImage(width, height, static_cast<uint64_t>(i), true);
       left.at<cv::Vec3b>(0, 0) = cv::Vec3b(static_cast<uint8_t>(i), 0, 0);
       right.at<cv::Vec3b>(0, 0) = cv::Vec3b(static_cast<uint8_t>(100 + i), 0, 0);
       char name[32];
@@ -79,6 +79,19 @@ TEST_F(FileStereoCameraTest, ReadsImageSequencesInOrderThenEnds) {
   }
   StereoImagePair pair;
   EXPECT_EQ(camera.Grab(milliseconds(100), &pair).status, GrabStatus::kEndOfStream);
+}
+
+TEST_F(FileStereoCameraTest, DeliversTheNative1280x960Size) {
+  WritePairs(1, 1280, 960);
+  FileStereoCamera camera(SequenceOptions());
+  std::string error;
+  ASSERT_TRUE(camera.Open(&error)) << error;
+  EXPECT_EQ(camera.Info().width_px, 1280);
+  EXPECT_EQ(camera.Info().height_px, 960);
+  StereoImagePair pair;
+  ASSERT_TRUE(camera.Grab(milliseconds(100), &pair).ok());
+  EXPECT_EQ(pair.left.size(), cv::Size(1280, 960));
+  EXPECT_EQ(pair.right.size(), cv::Size(1280, 960));
 }
 
 TEST_F(FileStereoCameraTest, LoopsWhenAsked) {

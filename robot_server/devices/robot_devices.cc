@@ -48,13 +48,16 @@ bool ReplaysBelts(const ServerConfig& config) {
 
 // Built-in video sources (test pattern, simulator): the bitrate control of `camera.bitrate` when
 // the configuration has one (e.g. a WAN target), else the defaults; JPEG quality starts at
-// `initial_quality`.
-void UseConfiguredBitrate(const ServerConfig& config, int initial_quality,
+// `initial_quality`; the resolution ladder for images `width_px` wide unless one is configured.
+void UseConfiguredBitrate(const ServerConfig& config, int initial_quality, int width_px,
                           camera::CameraPipelineOptions* options) {
   if (config.camera().has_bitrate()) {
     const camera::CameraPipelineOptions configured = camera::MakePipelineOptions(config.camera());
     options->bitrate_classes = configured.bitrate_classes;
     options->bitrate = configured.bitrate;
+  }
+  if (config.camera().bitrate().scales_size() == 0) {
+    options->bitrate.scales = camera::DefaultScaleLadder(width_px);
   }
   options->bitrate.initial_quality =
       std::clamp(initial_quality, options->bitrate.min_quality, options->bitrate.max_quality);
@@ -73,7 +76,7 @@ bool MakeTestPatternDevices(const ServerConfig& config, const Clock* clock,
     devices->camera = std::make_unique<testpattern::TestPatternCamera>(
         devices->pattern_robot.get(), tp.width_px(), tp.height_px(), tp.frame_rate_hz(), clock);
   }
-  UseConfiguredBitrate(config, tp.jpeg_quality(), &devices->camera_options);
+  UseConfiguredBitrate(config, tp.jpeg_quality(), tp.width_px(), &devices->camera_options);
   if (!ReplaysLaser(config)) {
     devices->owned_laser = std::make_unique<testpattern::TestPatternLaser>(
         devices->pattern_robot.get(), tp.scan_rate_hz(), clock);
@@ -106,8 +109,9 @@ bool MakeSimDevices(const ServerConfig& config, const std::string& config_dir, c
     devices->camera = std::make_unique<sim::SimStereoCamera>(
         devices->world.get(), config.test_pattern().frame_rate_hz(), clock);
   }
-  UseConfiguredBitrate(config, config.test_pattern().jpeg_quality(), &devices->camera_options);
   const sim::LaserCameraCalibration& truth = devices->world->calibration();
+  UseConfiguredBitrate(config, config.test_pattern().jpeg_quality(), truth.width_px,
+                       &devices->camera_options);
   for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
     CameraIntrinsicsInfo info;
     info.frame_id = eye == Eye::kLeft ? "camera_left" : "camera_right";
