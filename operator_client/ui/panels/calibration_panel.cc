@@ -2,6 +2,7 @@
 
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/math/calibration_io.h"
@@ -157,8 +158,14 @@ void DrawDisplayMode(render::DisplayMode* mode) {
 
 void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPanelTargets& edit,
                           const std::optional<StereoOffsetHint>& hint) {
-  ImGui::SetNextWindowPos(ImVec2(8, 190), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
+  // Below the HUD; never taller than the window (it scrolls), so that in a 640 x 480 window the
+  // stereo alignment and NESC's hint at the bottom stay reachable.
+  const ImGuiIO& io = ImGui::GetIO();
+  const float top = std::min(190.f, io.DisplaySize.y * 0.25f);
+  ImGui::SetNextWindowPos(ImVec2(8, top), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);  // height: fit, capped
+  ImGui::SetNextWindowSizeConstraints(
+      ImVec2(280, 120), ImVec2(io.DisplaySize.x, std::max(120.f, io.DisplaySize.y - top - 8)));
   ImGui::Begin("Calibration", edit.open);
   ImGui::TextWrapped(
       "Order: 1 focal on far objects, 2 y and tilt on the floor, 3 z on near objects, "
