@@ -106,6 +106,8 @@ class OperatorConsole {
   size_t sonar_unseen() const { return sonar_unseen_; }
   // The scan of the last frame drawn: moved to its image's time, or faded and why.
   const MotionOverlayStatus& motion() const { return motion_; }
+  // The options in force (after Init: with the alignment from the calibration profile).
+  const ConsoleOptions& options() const { return options_; }
   const ShownPairStats& shown() const { return shown_; }
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
