@@ -13,6 +13,7 @@ bool ComposerOptions::IsValid(std::string* error) const {
   if (!calibration.IsValid(error)) return false;
   if (!ar.IsValid(error)) return false;
   if (!sonar.IsValid(error)) return false;
+  if (!motion.IsValid(error)) return false;
   render::StereoGeometry geometry;
   std::string why;
   if (!geometry.Update(calibration, calibration, alignment_model, left_alignment, right_alignment,
@@ -74,7 +75,14 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair, const Fra
   const fusion::ArFeatureBuilder& builder = builders_.For(
       ui::OverlayArOptions(options_.ar, options_.calibration.laser_height_m, false), &error);
   fusion::ArFeatures features;
-  if (scan) builder.Build(*scan, &features);
+  ComposedFrame frame;
+  if (scan) {
+    fusion::MovedScan moved;
+    const bool move = options_.motion.enabled && inputs.move_to_pair_time != nullptr;
+    if (move) inputs.move_to_pair_time(*scan, &moved);
+    frame.motion = ui::BuildOverlayFeatures(builder, *scan, move ? &moved : nullptr,
+                                            options_.motion, &features);
+  }
   render::OverlayGeometry geometry;
   ui::AssembleOverlay(nullptr, scan ? &features : nullptr, obstacles, fusion::VertexArray(),
                       &geometry);
@@ -116,18 +124,17 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair, const Fra
   content.possible_obstacles = obstacles.size();
   content.flags = (edges ? kFrameEdges : 0u) | (with_sonar ? kFrameSonar : 0u);
   content.left_jpeg = &pair.left.data;
-  ComposedFrame out;
-  out.left_only = std::make_shared<const std::string>(EncodeFrame(content));
+  frame.left_only = std::make_shared<const std::string>(EncodeFrame(content));
   if (both_eyes) {
     content.right_jpeg = &pair.right.data;
-    out.both_eyes = std::make_shared<const std::string>(EncodeFrame(content));
+    frame.both_eyes = std::make_shared<const std::string>(EncodeFrame(content));
   }
-  out.triangles = overlay.triangles.size() / 3;
-  out.unprojectable = overlay.unprojectable + sonar_overlay.unprojectable;
-  out.sonar_triangles = sonar_overlay.triangles.size() / 3;
-  out.possible_obstacles = obstacles.size();
-  out.edges = edges;
-  return out;
+  frame.triangles = overlay.triangles.size() / 3;
+  frame.unprojectable = overlay.unprojectable + sonar_overlay.unprojectable;
+  frame.sonar_triangles = sonar_overlay.triangles.size() / 3;
+  frame.possible_obstacles = obstacles.size();
+  frame.edges = edges;
+  return frame;
 }
 
 }  // namespace mostar::web

@@ -6,6 +6,7 @@
 // every browser (EncodeFrame). Pure: no DDS, no sockets; one thread at a time.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +20,7 @@
 #include "operator_client/render/eye_geometry.h"
 #include "operator_client/ui/ar_builder_cache.h"
 #include "operator_client/ui/intrinsics_adoption.h"
+#include "operator_client/ui/motion_overlay.h"
 #include "operator_client/vision/vision_pipeline.h"
 #include "operator_client/web/image_overlay.h"
 
@@ -32,6 +34,9 @@ struct ComposerOptions {
   render::EyeAlignment left_alignment;
   render::EyeAlignment right_alignment;
   bool intrinsics_from_robot = true;  // adopt the left intrinsics the robot publishes
+  // As the console: each scan moved to its pair's capture time with the odometry, or drawn as
+  // measured and faded when no odometry covers the gap (ui/motion_overlay.h).
+  ui::MotionOverlayOptions motion;
 
   bool IsValid(std::string* error) const;
 };
@@ -43,7 +48,8 @@ struct ComposedFrame {
   size_t unprojectable = 0;
   size_t sonar_triangles = 0;  // sonar fan triangles in the image
   size_t possible_obstacles = 0;
-  bool edges = false;  // the pair's edge result is in the overlay
+  bool edges = false;              // the pair's edge result is in the overlay
+  ui::MotionOverlayStatus motion;  // the scan moved to the pair's time, or faded
 };
 
 // What one frame is built from besides its pair.
@@ -54,6 +60,9 @@ struct FrameInputs {
   std::shared_ptr<const vision::VisionResult> edges;
   // The belt's latest cycle when fresh (the caller judges the age); none: no sonar sectors.
   std::optional<SonarRanges> sonar;
+  // Moves a scan's beams to the pair's capture time (client::RobotState::MoveScanToImageTime
+  // with the options' compensation); null: the scan is drawn as measured.
+  std::function<void(const LaserScan& scan, fusion::MovedScan* out)> move_to_pair_time;
 };
 
 class FrameComposer {

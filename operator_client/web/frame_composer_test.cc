@@ -71,6 +71,62 @@ TEST(FrameComposerTest, AScanGivesWallsInTheImageAndTheMap) {
   EXPECT_TRUE(f.sonar_triangles.empty());
 }
 
+// As the console: the scan moved to the pair's time (here: the robot turned 5 degrees left
+// between scan and image, so everything appears 5 degrees to the right), or faded when no
+// odometry covers the gap; without a move function, drawn as measured.
+TEST(FrameComposerTest, TheScanIsMovedToThePairsTimeOrFaded) {
+  FrameComposer composer{ComposerOptions{}};
+  LaserScan scan = fusion::testing::MakeScan(fusion::testing::Room(), 181);
+  const double turn = 5.0 * M_PI / 180.0;
+  auto moved_by_turn = [&](const LaserScan& s, fusion::MovedScan* out) {
+    out->points.clear();
+    for (size_t i = 0; i < s.ranges_m.size(); ++i) {
+      const double a = s.AngleOf(i) - turn;
+      const double r = s.ranges_m[i];
+      out->points.push_back(
+          {static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a))});
+    }
+    out->moved = true;
+  };
+  auto not_covered = [](const LaserScan&, fusion::MovedScan* out) {
+    out->moved = false;
+    out->reason = "no odometry";
+  };
+  testing::ReadFrame measured, moved, faded;
+  ComposedFrame frame = composer.Compose(Pair(), WithScan(scan), 1, false);
+  EXPECT_FALSE(frame.motion.moved);
+  EXPECT_FALSE(frame.motion.faded);
+  ASSERT_TRUE(testing::Read(*frame.left_only, &measured));
+  FrameInputs inputs = WithScan(scan);
+  inputs.move_to_pair_time = moved_by_turn;
+  frame = composer.Compose(Pair(), inputs, 2, false);
+  EXPECT_TRUE(frame.motion.moved);
+  ASSERT_TRUE(testing::Read(*frame.left_only, &moved));
+  inputs.move_to_pair_time = not_covered;
+  frame = composer.Compose(Pair(), inputs, 3, false);
+  EXPECT_TRUE(frame.motion.faded);
+  EXPECT_EQ(frame.motion.reason, "no odometry");
+  ASSERT_TRUE(testing::Read(*frame.left_only, &faded));
+  // On the map every point turned 5 degrees clockwise; in the image the faded walls are where
+  // the measured ones are, more transparent.
+  ASSERT_FALSE(measured.map.empty());
+  ASSERT_EQ(moved.map.size(), measured.map.size());
+  for (size_t i = 0; i < measured.map.size(); ++i) {
+    const double before = std::atan2(measured.map[i].y_m, measured.map[i].x_m);
+    const double after = std::atan2(moved.map[i].y_m, moved.map[i].x_m);
+    EXPECT_NEAR(std::remainder(after - before, 2 * M_PI), -turn, 1e-3) << "map point " << i;
+  }
+  ASSERT_FALSE(measured.triangles.empty());
+  ASSERT_EQ(faded.triangles.size(), measured.triangles.size());
+  size_t fainter = 0;
+  for (size_t i = 0; i < measured.triangles.size(); ++i) {
+    EXPECT_FLOAT_EQ(faded.triangles[i].u_px, measured.triangles[i].u_px);
+    EXPECT_LE(faded.triangles[i].rgba[3], measured.triangles[i].rgba[3]);
+    fainter += faded.triangles[i].rgba[3] < measured.triangles[i].rgba[3];
+  }
+  EXPECT_GT(fainter, measured.triangles.size() / 2);
+}
+
 TEST(FrameComposerTest, BothEyesOnlyWhenAsked) {
   FrameComposer composer{ComposerOptions{}};
   const ComposedFrame frame = composer.Compose(Pair(), FrameInputs{}, 1, true);

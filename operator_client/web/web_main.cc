@@ -56,6 +56,7 @@ struct Readers {
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers;
+  std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odometry;
 
   bool ok(std::string* error) const {
     auto check = [error](const auto& r) {
@@ -63,7 +64,7 @@ struct Readers {
       return r->ok();
     };
     return check(left) && check(right) && check(left_info) && check(scan) && check(health) &&
-           check(lease) && check(sonar) && check(bumpers);
+           check(lease) && check(sonar) && check(bumpers) && check(odometry);
   }
 };
 
@@ -160,14 +161,13 @@ int Main(int argc, char** argv) {
   vision::VisionOptions vision_options = console.vision;
   vision_options.keep_edge_images = false;  // the page shows no edge images
   composer_options.intrinsics_from_robot = console.intrinsics_from_robot;
-  if (!console.calibration_path.empty()) {
-    math::LaserCameraCalibration ignored;
-    math::StereoAlignmentProfile alignment;
-    std::string why;
-    if (math::LoadCalibrationProfile(console.calibration_path, &ignored, &alignment, &why)) {
-      render::FromProfile(alignment, &composer_options.alignment_model,
-                          &composer_options.left_alignment, &composer_options.right_alignment);
-    }
+  composer_options.motion = console.motion;
+  std::string why;
+  if (!console.calibration_path.empty() &&
+      !render::LoadAlignment(console.calibration_path, &composer_options.alignment_model,
+                             &composer_options.left_alignment, &composer_options.right_alignment,
+                             &why)) {
+    MOSTAR_LOG(WARNING) << "stereo alignment not loaded, starting without offsets: " << why;
   }
   if (!composer_options.IsValid(&error)) {
     std::cerr << "mostar_web: " << config_path << ": " << error << "\n";
@@ -235,12 +235,17 @@ int Main(int argc, char** argv) {
   readers.bumpers = std::make_unique<decltype(readers.bumpers)::element_type>(
       p, topics::kBumpers, Stream::kState,
       [&](const dds::wire::BumperState& state) { robot.SetBumpers(dds::FromIdl(state)); });
+  readers.odometry = std::make_unique<decltype(readers.odometry)::element_type>(
+      p, topics::kOdometry, Stream::kSensor,
+      [&](const dds::wire::Odometry& odometry) { robot.SetOdometry(dds::FromIdl(odometry)); });
   if (!readers.ok(&error)) {
     std::cerr << "mostar_web: " << error << "\n";
     return 2;
   }
 
   std::atomic<uint64_t> frames_composed{0};
+  std::atomic<uint64_t> frames_moved{0};  // scan moved to the pair's capture time
+  std::atomic<uint64_t> frames_faded{0};  // no odometry covered the gap: drawn faded
   std::atomic<uint64_t> frames_with_edges{0};
   std::unique_ptr<EdgeRunner> edge_runner;
   if (edges_on) edge_runner = std::make_unique<EdgeRunner>(vision_options);
@@ -267,6 +272,8 @@ int Main(int argc, char** argv) {
            ",\"unpaired\":" + std::to_string(s.unpaired) + ",\"late\":" + std::to_string(s.late) +
            ",\"pairs_skipped\":" + std::to_string(slot.drops) +
            ",\"frames_composed\":" + std::to_string(frames_composed.load()) +
+           ",\"frames_moved\":" + std::to_string(frames_moved.load()) +
+           ",\"frames_faded\":" + std::to_string(frames_faded.load()) +
            ",\"frames_with_edges\":" + std::to_string(frames_with_edges.load()) + "," + edge_stats;
   };
   std::unique_ptr<WebServer> server = WebServer::Create(web, dds_stats, &error);
@@ -305,6 +312,11 @@ int Main(int argc, char** argv) {
       FrameInputs inputs;
       inputs.scan = h.scan;
       inputs.edges = std::move(result);
+      const Time pair_stamp = h.pair.left.stamp;
+      inputs.move_to_pair_time = [&robot, &composer_options, pair_stamp](const LaserScan& scan,
+                                                                         fusion::MovedScan* out) {
+        robot.MoveScanToImageTime(scan, pair_stamp, composer_options.motion.compensation, out);
+      };
       // As the console: the belt cycles at about 5 Hz, a cycle older than a second no longer
       // shows where things are.
       const client::RobotSnapshot robot_now = robot.Snapshot();
@@ -316,6 +328,8 @@ int Main(int argc, char** argv) {
           composer.Compose(h.pair, inputs, h.sequence, server->WantsBothEyes());
       server->BroadcastFrame(frame);
       ++frames_composed;
+      frames_moved += frame.motion.moved;
+      frames_faded += frame.motion.faded;
       if (frame.edges) ++frames_with_edges;
     };
     while (!stop.load()) {
