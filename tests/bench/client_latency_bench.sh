@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Operator-side latency on loopback: robot_server (simulated robot or test pattern) and a
-# headless operator_client under Xvfb/llvmpipe. Prints two tables: the delivered pair rate,
+# Operator-side latency on loopback: robot_server (simulated robot at 640x480 or 1280x960, or the
+# test pattern) and a headless operator_client under Xvfb/llvmpipe. Prints two tables: the delivered pair rate,
 # capture-to-display age and render time (p50/p95); then the capture-to-screen latency trace,
 # stage by stage (p50 / p95 ms of each stage since the one before, the total capture to
 # presented, and what no stamp explains), one column per run.
@@ -15,10 +15,13 @@ STAGES=(encoded written received decoded picked vision drawn presented total une
 declare -a reports=() labels=()
 printf '| source | display | pairs/s | age p50 ms | age p95 ms | render p50 ms | render p95 ms |\n'
 printf '|---|---|---|---|---|---|---|\n'
-for source in test_pattern sim; do
+# Rows: source (test_pattern, sim at 640x480, sim_1280: the simulator at the cameras' native
+# 1280x960, shown in the client's 640x480 window, so decoded at 1/2) x display mode.
+for source in test_pattern sim sim_1280; do
   for display in mono-left anaglyph-color; do
     args=(--domain "$DOMAIN" --config deploy/config/server_sim.pbtxt)
     [ "$source" = test_pattern ] && args+=(--source test_pattern)
+    [ "$source" = sim_1280 ] && args=(--domain "$DOMAIN" --config deploy/config/server_sim_1280.pbtxt)
     "$BUILD_DIR/robot_server/robot_server" "${args[@]}" --log-level warning &
     server=$!
     sleep 2
