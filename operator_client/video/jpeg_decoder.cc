@@ -1,47 +1,16 @@
 #include "operator_client/video/jpeg_decoder.h"
 
-// clang-format off
-#include <cstdio>  // jpeglib.h needs FILE
-#include <jpeglib.h>
-// clang-format on
-
 #include <algorithm>
 #include <csetjmp>
 
 #include "common/check/check.h"
+#include "common/jpeg/jpeg_error.h"
 
 namespace mostar::client {
-namespace {
-
-// libjpeg reports fatal errors through error_exit, which must not return: it longjmps back to
-// the setjmp in Decode, which keeps only trivially destructible locals across libjpeg calls.
-struct ErrorManager {
-  jpeg_error_mgr base;
-  std::jmp_buf jump;
-  char message[JMSG_LENGTH_MAX];
-  int warnings;
-};
-
-void ErrorExit(j_common_ptr cinfo) {
-  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
-  (*cinfo->err->format_message)(cinfo, manager->message);
-  std::longjmp(manager->jump, 1);
-}
-
-// Warnings (level -1) are kept, not printed: Decode treats them as errors.
-void EmitMessage(j_common_ptr cinfo, int level) {
-  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
-  if (level < 0) {
-    if (manager->warnings == 0) (*cinfo->err->format_message)(cinfo, manager->message);
-    ++manager->warnings;
-  }
-}
-
-}  // namespace
 
 struct JpegDecoder::State {
   jpeg_decompress_struct cinfo;
-  ErrorManager error;
+  JpegErrorManager error;
 };
 
 int DecodeScaleDenominator(int width_px, int height_px, int target_width_px, int target_height_px) {
@@ -55,10 +24,7 @@ int DecodeScaleDenominator(int width_px, int height_px, int target_width_px, int
 }
 
 JpegDecoder::JpegDecoder() : state_(std::make_unique<State>()) {
-  jpeg_std_error(&state_->error.base);
-  state_->error.base.error_exit = ErrorExit;
-  state_->error.base.emit_message = EmitMessage;
-  state_->cinfo.err = &state_->error.base;
+  state_->cinfo.err = InitJpegErrorManager(&state_->error);
   jpeg_create_decompress(&state_->cinfo);
 }
 

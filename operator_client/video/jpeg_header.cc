@@ -1,38 +1,16 @@
 #include "operator_client/video/jpeg_header.h"
 
-// clang-format off
-#include <cstdio>  // jpeglib.h needs FILE
-#include <jpeglib.h>
-// clang-format on
-
 #include <csetjmp>
+
+#include "common/jpeg/jpeg_error.h"
 
 namespace mostar::client {
 namespace {
 
-// libjpeg reports fatal errors through error_exit, which must not return: it longjmps back to
-// the setjmp in ReadHeader, whose locals are all trivially destructible.
-struct ErrorManager {
-  jpeg_error_mgr base;
-  std::jmp_buf jump;
-  char message[JMSG_LENGTH_MAX];
-};
-
-void ErrorExit(j_common_ptr cinfo) {
-  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
-  (*cinfo->err->format_message)(cinfo, manager->message);
-  std::longjmp(manager->jump, 1);
-}
-
-void EmitMessage(j_common_ptr, int) {}  // warnings are not printed; the decoder judges the data
-
 // 0 on success, else -1 with the message in `manager`.
-int ReadHeader(const uint8_t* data, size_t size, ErrorManager* manager, JpegHeader* out) {
+int ReadHeader(const uint8_t* data, size_t size, JpegErrorManager* manager, JpegHeader* out) {
   jpeg_decompress_struct cinfo{};  // zeroed: destroying it is safe whenever an error comes
-  cinfo.err = jpeg_std_error(&manager->base);
-  manager->base.error_exit = ErrorExit;
-  manager->base.emit_message = EmitMessage;
-  manager->message[0] = '\0';
+  cinfo.err = InitJpegErrorManager(manager);  // warnings are ignored: the decoder judges the data
   if (setjmp(manager->jump) != 0) {
     jpeg_destroy_decompress(&cinfo);
     return -1;
@@ -54,7 +32,7 @@ bool ReadJpegHeader(const uint8_t* data, size_t size, JpegHeader* out, std::stri
     if (error) *error = "empty image";
     return false;
   }
-  ErrorManager manager;
+  JpegErrorManager manager;
   JpegHeader header;
   if (ReadHeader(data, size, &manager, &header) != 0) {
     if (error) *error = manager.message;

@@ -1,50 +1,15 @@
 #include "robot_server/camera/jpeg_compressor.h"
 
-#include "robot_server/camera/camera_pipeline.h"
-
-// jpeglib.h needs FILE and size_t declared first.
-#include <jpeglib.h>
-
 #include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
+#include "common/jpeg/jpeg_error.h"
+#include "robot_server/camera/camera_pipeline.h"
+
 namespace mostar::camera {
 namespace {
-
-// libjpeg reports fatal errors through error_exit, which must not return: we longjmp back to
-// the setjmp in the calling function. Those functions keep only trivially destructible locals
-// between setjmp and any libjpeg call, so no destructor is skipped.
-struct ErrorManager {
-  jpeg_error_mgr base;
-  std::jmp_buf jump;
-  char message[JMSG_LENGTH_MAX];
-  int warnings;
-};
-
-void ErrorExit(j_common_ptr cinfo) {
-  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
-  (*cinfo->err->format_message)(cinfo, manager->message);
-  std::longjmp(manager->jump, 1);
-}
-
-// Warnings (level -1) are kept, not printed: the decoder treats them as errors.
-void EmitMessage(j_common_ptr cinfo, int level) {
-  auto* manager = reinterpret_cast<ErrorManager*>(cinfo->err);
-  if (level < 0) {
-    if (manager->warnings == 0) (*cinfo->err->format_message)(cinfo, manager->message);
-    ++manager->warnings;
-  }
-}
-
-void InitErrorManager(ErrorManager* manager) {
-  jpeg_std_error(&manager->base);
-  manager->base.error_exit = ErrorExit;
-  manager->base.emit_message = EmitMessage;
-  manager->message[0] = '\0';
-  manager->warnings = 0;
-}
 
 // Destination manager writing into a std::vector (grown by doubling; capacity reused).
 struct VectorDestination {
@@ -90,7 +55,7 @@ bool JpegSettings::IsValid(std::string* error) const {
 
 struct JpegEncoder::State {
   jpeg_compress_struct cinfo;
-  ErrorManager error;
+  JpegErrorManager error;
   VectorDestination dest;
 };
 
@@ -124,8 +89,7 @@ static bool RunCompress(JpegEncoder::State* state, const cv::Mat& source, int qu
 }
 
 JpegEncoder::JpegEncoder() : state_(std::make_unique<State>()) {
-  InitErrorManager(&state_->error);
-  state_->cinfo.err = &state_->error.base;
+  state_->cinfo.err = InitJpegErrorManager(&state_->error);
   jpeg_create_compress(&state_->cinfo);
   state_->dest.base.init_destination = InitDestination;
   state_->dest.base.empty_output_buffer = EmptyOutputBuffer;
@@ -155,12 +119,11 @@ bool JpegEncoder::Encode(const cv::Mat& bgr, const JpegSettings& settings,
 
 struct JpegDecoder::State {
   jpeg_decompress_struct cinfo;
-  ErrorManager error;
+  JpegErrorManager error;
 };
 
 JpegDecoder::JpegDecoder() : state_(std::make_unique<State>()) {
-  InitErrorManager(&state_->error);
-  state_->cinfo.err = &state_->error.base;
+  state_->cinfo.err = InitJpegErrorManager(&state_->error);
   jpeg_create_decompress(&state_->cinfo);
 }
 
