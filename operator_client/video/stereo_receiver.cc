@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "common/log/log.h"
-#include "operator_client/video/jpeg_decoder.h"
 #include "operator_client/video/jpeg_header.h"
 
 namespace mostar::client {

@@ -1,9 +1,9 @@
 #include "operator_client/web/edge_runner.h"
 
 #include <chrono>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "operator_client/video/jpeg_header.h"
 
 namespace mostar::web {
@@ -11,20 +11,17 @@ namespace {
 
 // Grey pixels of `jpeg` (edge processing works on intensity), empty when it is not a readable
 // JPEG or declares a size other than the camera's.
-cv::Mat DecodeGrey(const std::vector<uint8_t>& jpeg, const math::CameraModel& camera) {
+cv::Mat DecodeGrey(JpegDecoder* decoder, const std::vector<uint8_t>& jpeg,
+                   const math::CameraModel& camera) {
   client::JpegHeader header;
   std::string why;
   if (jpeg.empty() || !client::ReadJpegHeader(jpeg.data(), jpeg.size(), &header, &why) ||
       !client::FitsExpectedSize(header, camera.width_px(), camera.height_px(), &why)) {
     return {};
   }
-  try {
-    return cv::imdecode(
-        cv::Mat(1, static_cast<int>(jpeg.size()), CV_8UC1, const_cast<uint8_t*>(jpeg.data())),
-        cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    return {};
-  }
+  cv::Mat grey;
+  if (!decoder->Decode(jpeg.data(), jpeg.size(), 1, &grey, nullptr, JpegPixels::kGrey)) return {};
+  return grey;
 }
 
 }  // namespace
@@ -56,6 +53,7 @@ EdgeRunner::Stats EdgeRunner::stats() const {
 }
 
 void EdgeRunner::Run() {
+  JpegDecoder decoder;
   while (!pending_.closed()) {
     std::optional<EdgeJob> job = pending_.Take(std::chrono::milliseconds(100));
     if (!job) continue;
@@ -64,11 +62,11 @@ void EdgeRunner::Run() {
     input.stamp = job->pair.left.stamp;
     input.sequence = job->sequence;
     bool decoded = job->left_camera != nullptr;
-    if (decoded) input.left = DecodeGrey(job->pair.left.data, *job->left_camera);
+    if (decoded) input.left = DecodeGrey(&decoder, job->pair.left.data, *job->left_camera);
     decoded = decoded && !input.left.empty();
     if (decoded && pipeline_.options().stereo) {
       decoded = job->right_camera != nullptr;
-      if (decoded) input.right = DecodeGrey(job->pair.right.data, *job->right_camera);
+      if (decoded) input.right = DecodeGrey(&decoder, job->pair.right.data, *job->right_camera);
       decoded = decoded && !input.right.empty();
     }
     const Duration decode_time = std::chrono::steady_clock::now() - start;

@@ -5,6 +5,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "robot_server/camera/fake_stereo_camera.h"
 #include "robot_server/camera/jpeg_compressor.h"
 

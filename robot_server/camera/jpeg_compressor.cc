@@ -117,54 +117,6 @@ bool JpegEncoder::Encode(const cv::Mat& bgr, const JpegSettings& settings,
   return RunCompress(state_.get(), *source, settings.quality, out, error);
 }
 
-struct JpegDecoder::State {
-  jpeg_decompress_struct cinfo;
-  JpegErrorManager error;
-};
-
-JpegDecoder::JpegDecoder() : state_(std::make_unique<State>()) {
-  state_->cinfo.err = InitJpegErrorManager(&state_->error);
-  jpeg_create_decompress(&state_->cinfo);
-}
-
-JpegDecoder::~JpegDecoder() { jpeg_destroy_decompress(&state_->cinfo); }
-
-bool JpegDecoder::Decode(const uint8_t* data, size_t size, cv::Mat* bgr, std::string* error) {
-  // Cheap structural checks first: SOI marker at the start.
-  if (data == nullptr || size < 4 || data[0] != 0xFF || data[1] != 0xD8) {
-    ++broken_;
-    *error = "broken jpeg: no start-of-image marker (" + std::to_string(size) + " bytes)";
-    return false;
-  }
-  jpeg_decompress_struct* cinfo = &state_->cinfo;
-  state_->error.warnings = 0;
-  state_->error.message[0] = '\0';
-  if (setjmp(state_->error.jump)) {
-    jpeg_abort_decompress(cinfo);
-    ++broken_;
-    *error = std::string("broken jpeg: ") + state_->error.message;
-    return false;
-  }
-  jpeg_mem_src(cinfo, data, static_cast<unsigned long>(size));
-  jpeg_read_header(cinfo, TRUE);
-  cinfo->out_color_space = JCS_EXT_BGR;
-  jpeg_start_decompress(cinfo);
-  bgr->create(static_cast<int>(cinfo->output_height), static_cast<int>(cinfo->output_width),
-              CV_8UC3);
-  while (cinfo->output_scanline < cinfo->output_height) {
-    JSAMPROW row = bgr->ptr<uint8_t>(static_cast<int>(cinfo->output_scanline));
-    jpeg_read_scanlines(cinfo, &row, 1);
-  }
-  jpeg_finish_decompress(cinfo);
-  if (state_->error.warnings > 0) {
-    ++broken_;
-    *error = std::string("broken jpeg: ") + state_->error.message;
-    return false;
-  }
-  ++decoded_;
-  return true;
-}
-
 JpegCompressor::JpegCompressor(bool parallel) : parallel_(parallel) {
   if (parallel_) {
     worker_ = std::thread([this] {

@@ -1,5 +1,5 @@
-// JPEG encoding and decoding with libjpeg-turbo (its libjpeg API, BGR in and out, no colour
-// conversion pass), and the stereo compressor that encodes both eyes in parallel.
+// JPEG encoding with libjpeg-turbo (its libjpeg API, BGR in, no colour conversion pass), and
+// the stereo compressor that encodes both eyes in parallel. Decoding: common/jpeg/jpeg_decoder.h.
 //
 // libjpeg-turbo directly was measured faster than OpenCV's imencode on the same library (see
 // camera_benchmark), and it lets a damaged JPEG be reported as an error instead of a warning
@@ -45,29 +45,6 @@ class JpegEncoder {
  private:
   std::unique_ptr<State> state_;
   cv::Mat scaled_;
-};
-
-// Decodes JPEG to BGR8. Any libjpeg warning (corrupt or truncated data) counts as an error:
-// a damaged image is reported and counted, never shown half grey. Not thread-safe.
-class JpegDecoder {
- public:
-  JpegDecoder();
-  ~JpegDecoder();
-  JpegDecoder(const JpegDecoder&) = delete;
-  JpegDecoder& operator=(const JpegDecoder&) = delete;
-
-  bool Decode(const uint8_t* data, size_t size, cv::Mat* bgr, std::string* error);
-  bool Decode(const std::vector<uint8_t>& data, cv::Mat* bgr, std::string* error) {
-    return Decode(data.data(), data.size(), bgr, error);
-  }
-  uint64_t decoded() const { return decoded_; }
-  uint64_t broken() const { return broken_; }
-
- private:
-  struct State;
-  std::unique_ptr<State> state_;
-  uint64_t decoded_ = 0;
-  uint64_t broken_ = 0;
 };
 
 // Compresses both eyes of a pair into a CompressedStereoPair (frame ids "camera_left" /

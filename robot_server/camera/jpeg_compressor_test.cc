@@ -4,6 +4,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "robot_server/camera/fake_stereo_camera.h"
 
 namespace mostar::camera {
@@ -69,39 +70,6 @@ TEST(JpegEncoderTest, RejectsBadInputWithAMessage) {
   EXPECT_NE(error.find("scale"), std::string::npos);
   // Still usable afterwards.
   EXPECT_TRUE(encoder.Encode(cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3)), {80, 1.0}, &out, &error));
-}
-
-TEST(JpegDecoderTest, BrokenJpegIsAnErrorAndCounted) {
-  const cv::Mat image = MakeSyntheticImage(320, 240, 3, false);
-  JpegEncoder encoder;
-  std::vector<uint8_t> jpeg;
-  std::string error;
-  ASSERT_TRUE(encoder.Encode(image, {80, 1.0}, &jpeg, &error));
-  JpegDecoder decoder;
-  cv::Mat decoded;
-
-  const std::vector<uint8_t> truncated(jpeg.begin(), jpeg.begin() + jpeg.size() / 2);
-  EXPECT_FALSE(decoder.Decode(truncated, &decoded, &error));
-  EXPECT_NE(error.find("broken jpeg"), std::string::npos) << error;
-
-  const std::vector<uint8_t> garbage = {1, 2, 3, 4, 5, 6, 7, 8};
-  EXPECT_FALSE(decoder.Decode(garbage, &decoded, &error));
-  EXPECT_NE(error.find("start-of-image"), std::string::npos) << error;
-
-  EXPECT_FALSE(decoder.Decode(nullptr, 0, &decoded, &error));
-
-  std::vector<uint8_t> header_only(jpeg.begin(), jpeg.begin() + 20);
-  EXPECT_FALSE(decoder.Decode(header_only, &decoded, &error));
-
-  std::vector<uint8_t> corrupted = jpeg;
-  for (size_t i = corrupted.size() / 3; i < corrupted.size() / 3 + 64; ++i) corrupted[i] = 0xFF;
-  EXPECT_FALSE(decoder.Decode(corrupted, &decoded, &error));
-
-  EXPECT_EQ(decoder.broken(), 5u);
-  EXPECT_EQ(decoder.decoded(), 0u);
-  // The decoder recovers: a good image still decodes.
-  ASSERT_TRUE(decoder.Decode(jpeg, &decoded, &error)) << error;
-  EXPECT_EQ(decoder.decoded(), 1u);
 }
 
 TEST(JpegCompressorTest, CompressesBothEyesWithTheSharedStamp) {

@@ -1,24 +1,19 @@
 #include "robot_server/replay/replay_stereo_camera.h"
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "common/log/log.h"
 
 namespace mostar::replay {
 namespace {
 
-// BGR8 image of one recorded eye; empty when the bytes do not decode.
-cv::Mat Decode(const CompressedImage& image) {
-  if (image.data.empty()) return {};
-  try {
-    const cv::Mat bytes(1, static_cast<int>(image.data.size()), CV_8UC1,
-                        const_cast<uint8_t*>(image.data.data()));
-    return cv::imdecode(bytes, cv::IMREAD_COLOR);
-  } catch (const cv::Exception&) {
-    return {};
-  }
+// BGR8 image of one recorded eye; empty when the bytes do not decode without a warning.
+cv::Mat Decode(JpegDecoder* decoder, const CompressedImage& image) {
+  cv::Mat bgr;
+  if (!decoder->Decode(image.data, &bgr, nullptr)) return {};
+  return bgr;
 }
 
 std::string DamageNote(const record::RecordingReader* reader) {
@@ -63,7 +58,7 @@ bool ReplayStereoCamera::Open(std::string* error) {
   // The image size, from the first pair that decodes (once).
   std::string end;
   for (int tries = 0; width_px_ == 0 && tries < 8 && FillPending(&end); ++tries) {
-    const cv::Mat left = Decode(pending_->pair.left);
+    const cv::Mat left = Decode(&decoder_, pending_->pair.left);
     if (!left.empty()) {
       width_px_ = left.cols;
       height_px_ = left.rows;
@@ -149,8 +144,8 @@ camera::GrabResult ReplayStereoCamera::Grab(Duration timeout, camera::StereoImag
       ++pairs_in_pass_;
       ++pairs_skipped_late_;
     }
-    cv::Mat left = Decode(pair.pair.left);
-    cv::Mat right = Decode(pair.pair.right);
+    cv::Mat left = Decode(&decoder_, pair.pair.left);
+    cv::Mat right = Decode(&decoder_, pair.pair.right);
     if (left.empty() || right.empty()) {
       broken_jpegs_ += static_cast<uint64_t>(left.empty()) + static_cast<uint64_t>(right.empty());
       MOSTAR_LOG_EVERY_SEC(WARNING, 5)

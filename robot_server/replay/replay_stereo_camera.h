@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "common/record/recording_reader.h"
 #include "common/record/replay_sources.h"
 #include "robot_server/camera/stereo_camera.h"
@@ -62,6 +63,7 @@ class ReplayStereoCamera final : public camera::StereoCamera {
   std::unique_ptr<record::ReplayFrameSource> source_;  // null while closed
   record::RecordingReader* reader_ = nullptr;          // read by source_
   std::optional<record::TimedStereoPair> pending_;
+  JpegDecoder decoder_;  // every libjpeg warning is a broken JPEG
   uint64_t pass_ = 0;
   uint64_t pairs_in_pass_ = 0;    // taken from the source in this pass
   bool pass_from_begin_ = false;  // this pass started at the beginning of the recording

@@ -10,8 +10,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "common/jpeg/jpeg_decoder.h"
 #include "operator_client/ui/decode_scaling.h"
-#include "operator_client/video/jpeg_decoder.h"
 #include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/camera/jpeg_compressor.h"
 #include "robot_server/sim/sim_world.h"
@@ -84,7 +84,7 @@ BENCHMARK(BM_JpegPairEncode)->Arg(640)->Arg(1280)->Unit(benchmark::kMillisecond)
 void BM_DecodeOneEye(benchmark::State& state) {
   const Fixture& f = GetFixture(static_cast<int>(state.range(0)));
   const int denominator = static_cast<int>(state.range(1));
-  client::JpegDecoder decoder;
+  JpegDecoder decoder;
   cv::Mat bgr;
   std::string error;
   const std::vector<uint8_t>& jpeg = f.jpeg.left.data;
@@ -111,7 +111,7 @@ void BM_VisionPair(benchmark::State& state) {
   const int denominator = static_cast<int>(state.range(1));
   vision::VisionInput input = f.input;
   if (denominator > 1) {
-    client::JpegDecoder decoder;
+    JpegDecoder decoder;
     std::string error;
     if (!decoder.Decode(f.jpeg.left.data.data(), f.jpeg.left.data.size(), denominator, &input.left,
                         &error) ||

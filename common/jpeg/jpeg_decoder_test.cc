@@ -1,11 +1,11 @@
-#include "operator_client/video/jpeg_decoder.h"
+#include "common/jpeg/jpeg_decoder.h"
 
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace mostar::client {
+namespace mostar {
 namespace {
 
 // Four flat quadrants: blue, green, red, white (BGR), JPEG q95.
@@ -53,6 +53,25 @@ TEST(JpegDecoderTest, DecodesAtEachDctScaleWithTheScaledSizeAndContent) {
   }
 }
 
+TEST(JpegDecoderTest, GreyIsTheLumaOfTheColourDecode) {
+  const std::vector<uint8_t> jpeg = Quadrants(640, 480);
+  JpegDecoder decoder;
+  cv::Mat bgr, grey, expected;
+  std::string error;
+  ASSERT_TRUE(decoder.Decode(jpeg.data(), jpeg.size(), 2, &bgr, &error)) << error;
+  ASSERT_TRUE(decoder.Decode(jpeg.data(), jpeg.size(), 2, &grey, &error, JpegPixels::kGrey))
+      << error;
+  ASSERT_EQ(grey.type(), CV_8UC1);
+  ASSERT_EQ(grey.size(), bgr.size());
+  cv::cvtColor(bgr, expected, cv::COLOR_BGR2GRAY);
+  double worst = 0;
+  cv::minMaxLoc(cv::abs(grey - expected) + cv::abs(expected - grey), nullptr, &worst);
+  EXPECT_LE(worst, 3) << "grey differs from the colour decode's luma";
+  EXPECT_LT(grey.at<uint8_t>(60, 80), 60);     // blue quadrant: dark
+  EXPECT_GT(grey.at<uint8_t>(180, 240), 230);  // white quadrant
+  EXPECT_EQ(decoder.decoded(), 2u);
+}
+
 TEST(JpegDecoderTest, OddSizesRoundUp) {
   const std::vector<uint8_t> jpeg = Quadrants(641, 481);
   JpegDecoder decoder;
@@ -64,20 +83,35 @@ TEST(JpegDecoderTest, OddSizesRoundUp) {
   EXPECT_EQ(bgr.cols, 161);
 }
 
-TEST(JpegDecoderTest, TruncatedDataIsAnErrorAndTheDecoderStillWorksAfterwards) {
+TEST(JpegDecoderTest, BrokenJpegIsAnErrorCountedAndTheDecoderStillWorksAfterwards) {
   const std::vector<uint8_t> jpeg = Quadrants(320, 240);
-  std::vector<uint8_t> cut(jpeg.begin(), jpeg.begin() + static_cast<long>(jpeg.size() / 2));
   JpegDecoder decoder;
   cv::Mat bgr;
   std::string error;
-  EXPECT_FALSE(decoder.Decode(cut.data(), cut.size(), 2, &bgr, &error));
-  EXPECT_FALSE(error.empty());
-  EXPECT_FALSE(decoder.Decode(nullptr, 0, 1, &bgr, &error));
+
+  const std::vector<uint8_t> truncated(jpeg.begin(), jpeg.begin() + jpeg.size() / 2);
+  EXPECT_FALSE(decoder.Decode(truncated.data(), truncated.size(), 2, &bgr, &error));
+  EXPECT_EQ(error.rfind("broken jpeg: ", 0), 0u) << error;
+
   const std::vector<uint8_t> garbage(100, 0x55);
-  EXPECT_FALSE(decoder.Decode(garbage.data(), garbage.size(), 1, &bgr, &error));
-  ASSERT_TRUE(decoder.Decode(jpeg.data(), jpeg.size(), 1, &bgr, &error)) << error;
+  EXPECT_FALSE(decoder.Decode(garbage, &bgr, &error));
+  EXPECT_NE(error.find("start-of-image"), std::string::npos) << error;
+
+  EXPECT_FALSE(decoder.Decode(nullptr, 0, 1, &bgr, nullptr));  // no message asked for
+
+  const std::vector<uint8_t> header_only(jpeg.begin(), jpeg.begin() + 20);
+  EXPECT_FALSE(decoder.Decode(header_only, &bgr, &error));
+
+  std::vector<uint8_t> corrupted = jpeg;
+  for (size_t i = corrupted.size() / 3; i < corrupted.size() / 3 + 64; ++i) corrupted[i] = 0xFF;
+  EXPECT_FALSE(decoder.Decode(corrupted, &bgr, &error));
+
+  EXPECT_EQ(decoder.broken(), 5u);
+  EXPECT_EQ(decoder.decoded(), 0u);
+  ASSERT_TRUE(decoder.Decode(jpeg, &bgr, &error)) << error;
   EXPECT_EQ(bgr.cols, 320);
+  EXPECT_EQ(decoder.decoded(), 1u);
 }
 
 }  // namespace
-}  // namespace mostar::client
+}  // namespace mostar
