@@ -19,6 +19,7 @@
 #include "common/record/recording_reader.h"
 #include "common/testing/subprocess.h"
 #include "common/testing/trace.h"
+#include "operator_client/ui/pair_capture.h"
 
 namespace mostar {
 namespace {
@@ -172,10 +173,12 @@ int64_t ReportValue(const std::string& log, const std::string& key) {
 
 // Where a capture stamp sits in a recording, in records counted from the start (file order):
 // `eyes` = through the later of the pair's two eyes, `scan` = through the first scan stamped at
-// or after it (what the client waits for before rendering the pair).
+// or after it, `odometry` = through the first odometry stamped ui::PairCapture::kOdometryAfter
+// past it (what the client waits for before rendering the pair).
 struct PairRecords {
   int64_t eyes = -1;
   int64_t scan = -1;
+  int64_t odometry = -1;
 };
 
 PairRecords FindPair(const std::string& path, int64_t stamp_ns, std::vector<int64_t>* left_stamps,
@@ -193,6 +196,11 @@ PairRecords FindPair(const std::string& path, int64_t stamp_ns, std::vector<int6
     } else if (const auto* scan = std::get_if<LaserScan>(&m.payload)) {
       if (found.eyes > 0 && found.scan < 0 && ToUnixNanos(scan->stamp) >= stamp_ns) {
         found.scan = count;
+      }
+    } else if (const auto* odometry = std::get_if<Odometry>(&m.payload)) {
+      if (found.eyes > 0 && found.odometry < 0 &&
+          odometry->stamp >= FromUnixNanos(stamp_ns) + ui::PairCapture::kOdometryAfter) {
+        found.odometry = count;
       }
     }
   }
@@ -262,6 +270,7 @@ TEST_F(RecordReplayTest, ReplayRendersTheSamePictureAsLive) {
   const PairRecords target = FindPair(recording, stamp, &left_stamps, &error);
   ASSERT_GT(target.eyes, 0) << "the captured pair is not in the recording " << error;
   ASSERT_GT(target.scan, target.eyes) << "no scan after the captured pair in the recording";
+  ASSERT_GT(target.odometry, target.eyes) << "no odometry after the captured pair";
   // A pair about a second earlier, for the negative check.
   const auto it = std::find(left_stamps.begin(), left_stamps.end(), stamp);
   ASSERT_GE(it - left_stamps.begin(), 25);
@@ -301,9 +310,11 @@ TEST_F(RecordReplayTest, ReplayRendersTheSamePictureAsLive) {
       dir_ + "/earlier_client.log", &error))
       << error;
   std::this_thread::sleep_for(std::chrono::seconds(4));  // discovery: the video is volatile
-  // Each pair is published last (the client latches it), then up to the scan after it.
+  // Each pair is published last (the client latches it), then up to the scan and the odometry
+  // after it.
+  const int64_t target_settled = std::max(target.scan, target.odometry);
   const int64_t steps[] = {other.eyes, other.scan - other.eyes, target.eyes - other.scan,
-                           target.scan - target.eyes};
+                           target_settled - target.eyes};
   for (const int64_t n : steps) {
     ASSERT_TRUE(replay.WriteStdin("s " + std::to_string(n) + "\n"));
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));

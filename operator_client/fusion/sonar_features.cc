@@ -1,5 +1,6 @@
 #include "operator_client/fusion/sonar_features.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/check/check.h"
@@ -132,6 +133,16 @@ void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLab
       out->outlines.Add(arc_x(k + 1), arc_y(k + 1), floor_z, options.unseen_outline);
     }
   }
+}
+
+Duration SonarAgeAtImage(const std::optional<SonarRanges>& cycle, std::optional<Time> image_stamp,
+                         Duration since_received) {
+  if (!cycle || cycle->ranges.empty()) return Duration::zero();
+  if (!image_stamp) return since_received;
+  Time last = cycle->ranges.front().stamp;
+  for (const SonarRange& range : cycle->ranges) last = std::max(last, range.stamp);
+  const Duration apart = *image_stamp - last;
+  return apart < Duration::zero() ? -apart : apart;
 }
 
 bool BuildFreshSonarFeatures(const std::optional<SonarRanges>& cycle, Duration age,

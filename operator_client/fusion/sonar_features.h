@@ -73,6 +73,13 @@ void BuildSonarFeatures(const SonarRanges& sonar, const std::vector<ScanPointLab
                         const LaserFieldOfView& laser_fov, const ArFeatureOptions& colors,
                         const SonarFeatureOptions& options, SonarFeatures* out);
 
+// How old a belt cycle is for the picture it is drawn over: with an image, the distance between
+// the image's capture stamp and the cycle's last ranging, on the robot's clock (so a replay, a
+// paused replay or a slow client judges it as the live console did); without one, the time
+// since it was received (`since_received`). Zero without a cycle or when it holds no sensor.
+Duration SonarAgeAtImage(const std::optional<SonarRanges>& cycle, std::optional<Time> image_stamp,
+                         Duration since_received);
+
 // The cues of the latest belt cycle, received `age` ago, when there is one and it is fresh
 // (age <= options.max_age_s); false, and `out` untouched, otherwise. `scan`: the scan drawn
 // with it (its field of view; null: none, nothing is compared) and `laser_points` its labels.

@@ -188,6 +188,23 @@ TEST(SonarFeaturesTest, OptionsAreChecked) {
   EXPECT_NE(error.find("max_age_s"), std::string::npos);
 }
 
+TEST(SonarFeaturesTest, AgeAtAnImageIsOnTheRobotsClockAndIgnoresWhenItArrived) {
+  using std::chrono::milliseconds;
+  const Time t0 = FromUnixNanos(1'700'000'000'000'000'000);
+  SonarRanges ring;
+  ring.ranges = {Sonar(0.2, 0.0, 0.0, 1.0f), Sonar(-0.2, 0.0, kPi, 1.0f)};
+  ring.ranges[0].stamp = t0;
+  ring.ranges[1].stamp = t0 + milliseconds(30);       // the cycle ends with its last ranging
+  const Duration long_ago = std::chrono::seconds(9);  // received long ago (a paused replay)
+  EXPECT_EQ(SonarAgeAtImage(ring, t0 + milliseconds(130), long_ago), milliseconds(100));
+  // A cycle that ended after the image is as far from it.
+  EXPECT_EQ(SonarAgeAtImage(ring, t0 - milliseconds(70), long_ago), milliseconds(100));
+  // No image: the time since it was received.
+  EXPECT_EQ(SonarAgeAtImage(ring, std::nullopt, long_ago), long_ago);
+  EXPECT_EQ(SonarAgeAtImage(std::nullopt, t0, long_ago), Duration::zero());
+  EXPECT_EQ(SonarAgeAtImage(SonarRanges{}, t0, long_ago), Duration::zero());
+}
+
 TEST(SonarFeaturesTest, OnlyAFreshCycleIsDrawnAndOnlyTheScansFieldOfViewIsCompared) {
   SonarRanges ring;
   ring.ranges = {Sonar(0.2, 0.0, 0.0, 1.0f), Sonar(-0.2, 0.0, kPi, 1.0f)};  // ahead, behind

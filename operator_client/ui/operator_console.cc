@@ -1,7 +1,5 @@
 #include "operator_client/ui/operator_console.h"
 
-#include <algorithm>
-
 #include "common/check/check.h"
 #include "common/log/log.h"
 #include "common/math/calibration_io.h"
@@ -98,9 +96,9 @@ std::optional<Time> OperatorConsole::captured_stamp() const {
 std::optional<client::DecodedStereoPair> OperatorConsole::CaptureFilter(
     const std::optional<client::DecodedStereoPair>& latest) {
   if (!capture_) return latest;
-  const std::optional<LaserScan> scan = robot_->Snapshot().latest_scan;
-  return capture_->Filter(latest, scan ? std::optional<Time>(scan->stamp) : std::nullopt,
-                          clock_->SteadyNow());
+  const client::RobotSnapshot robot = robot_->Snapshot();
+  return capture_->Filter(latest, StampOf(robot.latest_scan), clock_->SteadyNow(),
+                          StampOf(robot.odometry));
 }
 
 void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
@@ -142,10 +140,10 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
                                    render::OverlayGeometry* overlay, fusion::ArFeatures* features,
                                    fusion::SonarFeatures* sonar) {
   motion_ = {};
+  const std::optional<client::DecodedStereoPair>& pair = vision_->picker().shown_pair();
   if (scan) {
     std::string error;
     // The scan at the shown image's capture time (robot clock), moved with the odometry.
-    const std::optional<client::DecodedStereoPair>& pair = vision_->picker().shown_pair();
     fusion::MovedScan* moved = options_.motion.enabled && pair ? &moved_ : nullptr;
     if (moved) robot_->MoveScanToImageTime(*scan, pair->stamp, options_.motion.compensation, moved);
     motion_ = BuildOverlayFeatures(OverlayBuilder(&error), *scan, moved, options_.motion, features);
@@ -153,9 +151,11 @@ void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
   }
   fusion::ArFeatureOptions colors = options_.ar;
   colors.laser_height_m = static_cast<float>(options_.calibration.laser_height_m);
-  const bool sonar_fresh = fusion::BuildFreshSonarFeatures(
-      robot.sonar, clock_->SteadyNow() - robot.last_sonar_received, scan ? &*scan : nullptr,
-      features->points, colors, options_.sonar, sonar);
+  const Duration sonar_age = fusion::SonarAgeAtImage(
+      robot.sonar, StampOf(pair), clock_->SteadyNow() - robot.last_sonar_received);
+  const bool sonar_fresh =
+      fusion::BuildFreshSonarFeatures(robot.sonar, sonar_age, scan ? &*scan : nullptr,
+                                      features->points, colors, options_.sonar, sonar);
   // Possible obstacles the laser missed (NEPs much nearer than the laser point): magenta dots.
   static const std::vector<vision::PossibleObstacle> kNone;
   const auto& result = vision_->picker().shown_result();

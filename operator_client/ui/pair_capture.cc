@@ -9,7 +9,7 @@ PairCapture::PairCapture(std::optional<Time> stamp, uint64_t after_sequence)
 
 std::optional<client::DecodedStereoPair> PairCapture::Filter(
     const std::optional<client::DecodedStereoPair>& latest, std::optional<Time> latest_scan_stamp,
-    SteadyTime now) {
+    SteadyTime now, std::optional<Time> latest_odometry_stamp) {
   if (!pair_ && latest &&
       (stamp_ ? latest->stamp == *stamp_ : latest->sequence > after_sequence_)) {
     pair_ = latest;
@@ -17,12 +17,16 @@ std::optional<client::DecodedStereoPair> PairCapture::Filter(
   }
   if (!pair_) return std::nullopt;
   if (!ready_) {
-    if (latest_scan_stamp && *latest_scan_stamp >= pair_->stamp) {
+    const bool scan_in = latest_scan_stamp && *latest_scan_stamp >= pair_->stamp;
+    const bool odometry_in =
+        !latest_odometry_stamp || *latest_odometry_stamp >= pair_->stamp + kOdometryAfter;
+    if (scan_in && odometry_in) {
       ready_ = true;
     } else if (now - latched_at_ > kScanWait) {
       ready_ = true;
-      MOSTAR_LOG(WARNING) << "capture: no scan stamped after the pair within "
-                          << ToSeconds(kScanWait) << " s; rendering with what is here";
+      MOSTAR_LOG(WARNING) << "capture: no " << (scan_in ? "odometry" : "scan")
+                          << " stamped after the pair within " << ToSeconds(kScanWait)
+                          << " s; rendering with what is here";
     }
   }
   if (!ready_) return std::nullopt;

@@ -89,6 +89,35 @@ TEST(PairCaptureTest, IsDoneAfterThreeRendersWithTheEdgeResult) {
   EXPECT_FALSE(capture.CountRender());
 }
 
+TEST(PairCaptureTest, WaitsForTheOdometryThatMovesTheScanToThePair) {
+  FakeClock clock;
+  PairCapture capture(std::nullopt, 0);
+  const Time pair_stamp = Pair(1).stamp;
+  const Time scan_after = pair_stamp + milliseconds(20);
+  // The scan is in, but the odometry has not reached past the pair by kOdometryAfter yet.
+  EXPECT_FALSE(capture.Filter(Pair(1), scan_after, clock.SteadyNow(),
+                              pair_stamp + PairCapture::kOdometryAfter - milliseconds(1)));
+  clock.Advance(milliseconds(30));
+  const auto shown = capture.Filter(Pair(2), scan_after, clock.SteadyNow(),
+                                    pair_stamp + PairCapture::kOdometryAfter);
+  ASSERT_TRUE(shown);
+  EXPECT_EQ(shown->sequence, 1u);
+}
+
+TEST(PairCaptureTest, GivesUpWaitingForTheOdometryAfterTwoSeconds) {
+  FakeClock clock;
+  PairCapture capture(std::nullopt, 0);
+  const Time pair_stamp = Pair(1).stamp;
+  EXPECT_FALSE(capture.Filter(Pair(1), pair_stamp, clock.SteadyNow(), pair_stamp));
+  clock.Advance(PairCapture::kScanWait + milliseconds(1));
+  EXPECT_TRUE(capture.Filter(Pair(1), pair_stamp, clock.SteadyNow(), pair_stamp));
+}
+
+TEST(PairCaptureTest, StampOfAnOptionalMessage) {
+  EXPECT_FALSE(StampOf(std::optional<client::DecodedStereoPair>()));
+  EXPECT_EQ(StampOf(std::optional<client::DecodedStereoPair>(Pair(3))), Pair(3).stamp);
+}
+
 TEST(PairCaptureTest, NotACaptureRenderBeforeTheScansAreIn) {
   FakeClock clock;
   PairCapture capture(std::nullopt, 0);

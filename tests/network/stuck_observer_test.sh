@@ -29,8 +29,7 @@ esac
 source "$(cd "$(dirname "$0")" && pwd)/lib.sh"
 net_setup stuck
 # --stall-exit waits up to 30 s: the write blocks only once the frozen peer's receive buffer and
-# the robot's send buffer are full (several MB), which takes longer on a busy machine (12 s was
-# not enough once in ten clean runs under load); the robot exits as soon as it happens.
+# the robot's send buffer are full (several MB); the robot exits as soon as it happens.
 default_freeze_s=12
 [ "$stall_exit" = 0 ] || default_freeze_s=30
 freeze_after_s=5; freeze_s=${FREEZE_S:-$default_freeze_s}; run_s=$((freeze_after_s + freeze_s + 9))
@@ -38,7 +37,11 @@ robot_ip=10.231.0.1
 sed "s/203\.0\.113\.10/$robot_ip/g" "$src/deploy/dds/wan.xml" > "$work/wan.xml"
 sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" "$src/deploy/config/server_sim.pbtxt" \
   > "$work/server.pbtxt"
-[ "$stall_exit" = 0 ] || echo "dds { tcp_user_timeout_ms: 0 write_stall_exit_s: 3 }" >> "$work/server.pbtxt"
+# With --stall-exit the video lanes left to B are written again after 100 ms instead of 2 s,
+# so video keeps flowing into B's connection at about the full rate and fills the buffers in
+# seconds (at the default, 4 pairs per 2 s took from 10 s to more than 30 s to fill them).
+[ "$stall_exit" = 0 ] ||
+  echo "dds { tcp_user_timeout_ms: 0 write_stall_exit_s: 3 video_lane_timeout_ms: 100 }" >> "$work/server.pbtxt"
 user_timeout_ms=$(sed -n 's/.*tcp_user_timeout_ms: *\([0-9]*\).*/\1/p' "$work/server.pbtxt")
 user_timeout_ms=${user_timeout_ms:-4000}  # the default of server_config.proto
 domain=$((100 + $$ % 100))
