@@ -108,16 +108,12 @@ def client_certificates(robot_server, mostar_web, source, check):
 
 
 def main():
-    if len(sys.argv) != 4:
-        print(__doc__)
-        return 2
-    robot_server, mostar_web, source = sys.argv[1:4]
-    failures = []
-
-    def check(ok, what):
-        print(("ok: " if ok else "FAIL: ") + what)
-        if not ok:
-            failures.append(what)
+    args = webtest.program_args(sys.argv, __doc__)
+    if isinstance(args, int):
+        return args
+    robot_server, mostar_web, source, _ = args
+    check = webtest.Checks()
+    failures = check.failures
 
     programs = webtest.Programs(robot_server, mostar_web, source,
                                 web_args=["--write-timeout-s", "1.5", "--request-timeout-s", "2"])

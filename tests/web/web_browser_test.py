@@ -26,50 +26,27 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import webtest  # noqa: E402
 
-CHROMIUM = "/usr/bin/chromium"
-CHROMEDRIVER = "/usr/bin/chromedriver"
-
-
-def wait_for(what, predicate, timeout_s):
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.25)
-    raise AssertionError("timed out waiting for " + what)
-
-
 def main():
-    if len(sys.argv) < 4:
-        print(__doc__)
-        return 2
-    robot_server, mostar_web, source = sys.argv[1:4]
-    screenshot_copy = sys.argv[5] if len(sys.argv) > 5 and sys.argv[4] == "--screenshot" else None
-    for tool in (CHROMIUM, CHROMEDRIVER):
-        if not os.path.exists(tool):
-            print("SKIP: %s is missing (deploy/install-deps.sh installs chromium and chromium-driver)" % tool)
-            return webtest.SKIP
+    args = webtest.program_args(sys.argv, __doc__, browser=True)
+    if isinstance(args, int):
+        return args
+    robot_server, mostar_web, source, screenshot_copy = args
 
-    failures = []
-
-    def check(ok, what):
-        print(("ok: " if ok else "FAIL: ") + what)
-        if not ok:
-            failures.append(what)
+    check = webtest.Checks()
+    failures = check.failures
 
     programs = webtest.Programs(robot_server, mostar_web, source)
     driver = None
     try:
-        driver = webtest.WebDriver(programs.work, CHROMIUM, CHROMEDRIVER, window=(1120, 820))
+        driver = webtest.WebDriver(programs.work, window=(1120, 820))
         driver.get(programs.url("/#token=" + webtest.TOKEN))
         stats = lambda: driver.js("return window.mostar ? window.mostar.stats : null")  # noqa: E731
-        first = wait_for("10 frames shown and 2 HUD updates",
+        first = webtest.wait_for("10 frames shown and 2 HUD updates",
                          lambda: (lambda s: s if s and s["framesShown"] >= 10 and s["hudReceived"] >= 2
                                   else None)(stats()), 40)
         check(first["badMessages"] == 0, "the page decoded every message (%d bad)" % first["badMessages"])
         # The simulated LMS200 needs a few seconds (baud switch) before its first scan.
-        wait_for("scans: link 'ok' and walls in the shown frame",
+        webtest.wait_for("scans: link 'ok' and walls in the shown frame",
                  lambda: driver.js("return document.getElementById('hud-link').textContent === 'ok'"
                                    " && window.mostar.wallCentroids(5).length > 0"), 40)
         hud = lambda: driver.js(  # noqa: E731
@@ -90,7 +67,7 @@ def main():
 
         # Keep a frame with NEP dots on the page (frozen) while reading it and taking the
         # screenshot.
-        wait_for("a frame shown with its edge result's possible obstacles",
+        webtest.wait_for("a frame shown with its edge result's possible obstacles",
                  lambda: driver.js("if (window.mostar.obstacleDots().length === 0) return false;"
                                    " window.mostar.freeze(true); return true;"), 60)
         centroids = driver.js("return window.mostar.wallCentroids(80)")
@@ -110,7 +87,7 @@ def main():
               "%d of %d NEP dots of the frame's edge result are magenta in the screenshot" % (magenta, len(dots)))
         driver.js("document.getElementById('overlay').click()")
         shown = driver.js("return window.mostar.stats.framesShown")
-        wait_for("3 frames without overlay",
+        webtest.wait_for("3 frames without overlay",
                  lambda: driver.js("return window.mostar.stats.framesShown") >= shown + 3, 20)
         without_overlay = driver.screenshot_png()
         path = os.path.join(programs.work, "web_observer.png")

@@ -20,24 +20,9 @@ import re
 import shutil
 import sys
 import tempfile
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import webtest  # noqa: E402
-
-CHROMIUM = "/usr/bin/chromium"
-CHROMEDRIVER = "/usr/bin/chromedriver"
-
-
-def wait_for(what, predicate, timeout_s):
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.25)
-    raise AssertionError("timed out waiting for " + what)
-
 
 def magenta_near(pixels, w, h, x, y, radius=2):
     """True when a pixel within `radius` of (x, y) is magenta (the outline colour, blended a
@@ -67,33 +52,24 @@ def scene_with_start(source, work, start):
 
 
 def main():
-    if len(sys.argv) < 4:
-        print(__doc__)
-        return 2
-    robot_server, mostar_web, source = sys.argv[1:4]
-    screenshot_copy = sys.argv[5] if len(sys.argv) > 5 and sys.argv[4] == "--screenshot" else None
-    for tool in (CHROMIUM, CHROMEDRIVER):
-        if not os.path.exists(tool):
-            print("SKIP: %s is missing (deploy/install-deps.sh installs chromium and chromium-driver)" % tool)
-            return webtest.SKIP
+    args = webtest.program_args(sys.argv, __doc__, browser=True)
+    if isinstance(args, int):
+        return args
+    robot_server, mostar_web, source, screenshot_copy = args
 
-    failures = []
-
-    def check(ok, what):
-        print(("ok: " if ok else "FAIL: ") + what)
-        if not ok:
-            failures.append(what)
+    check = webtest.Checks()
+    failures = check.failures
 
     # 1. The glass door.
     programs = webtest.Programs(robot_server, mostar_web, source, server_args=[
         "--sim", os.path.join(source, "deploy/scenes/glass_door.pbtxt")])
     driver = None
     try:
-        driver = webtest.WebDriver(programs.work, CHROMIUM, CHROMEDRIVER, window=(1120, 820))
+        driver = webtest.WebDriver(programs.work, window=(1120, 820))
         driver.get(programs.url("/#token=" + webtest.TOKEN))
         # The simulated LMS200 needs a few seconds (baud switch) before its first scan; the belt
         # compares with the laser only after a scan.
-        info = wait_for(
+        info = webtest.wait_for(
             "a frame with sonar sectors the laser does not see, outlined in the image",
             lambda: (lambda f: f if f and f["sonar"] and f["sonarUnseen"] >= 1
                      and driver.js("return window.mostar.sonarOutlineMidpoints().length") > 0
@@ -101,14 +77,14 @@ def main():
         print("frame:", info)
         check(info["sonarEchoes"] >= 3, "the belt hears the room (%d echoes)" % info["sonarEchoes"])
         # Edge processing: some frames carry their own pair's result.
-        wait_for("frames with their edge result",
+        webtest.wait_for("frames with their edge result",
                  lambda: driver.js("return window.mostar.stats.framesWithEdges") >= 3, 60)
         check(True, "frames carry their pair's edge result")
-        wait_for("the bumper state in the HUD",
+        webtest.wait_for("the bumper state in the HUD",
                  lambda: text(driver, "hud-bumpers") not in ("?", ""), 20)
         # The page keeps the frame it shows (frozen) while the test reads it and takes the
         # screenshot.
-        wait_for("a frame shown with an outlined sonar sector",
+        webtest.wait_for("a frame shown with an outlined sonar sector",
                  lambda: driver.js("if (window.mostar.sonarOutlineMidpoints().length === 0) return false;"
                                    " window.mostar.freeze(true); return true;"), 30)
         midpoints = driver.js("return window.mostar.sonarOutlineMidpoints()")
@@ -166,9 +142,9 @@ def main():
     scene = scene_with_start(source, scene_dir, "x_m: -3.435 y_m: 0.0 theta_rad: 0.0")
     programs = webtest.Programs(robot_server, mostar_web, source, server_args=["--sim", scene])
     try:
-        driver = webtest.WebDriver(programs.work, CHROMIUM, CHROMEDRIVER, window=(1120, 820))
+        driver = webtest.WebDriver(programs.work, window=(1120, 820))
         driver.get(programs.url("/#token=" + webtest.TOKEN))
-        cell = wait_for("a bumper hit in the HUD",
+        cell = webtest.wait_for("a bumper hit in the HUD",
                         lambda: (lambda t: t if "hit" in t else None)(text(driver, "hud-bumpers")), 60)
         banner = driver.js("const b = document.getElementById('bumper-alert');"
                            "return b.hidden ? '' : b.textContent;")

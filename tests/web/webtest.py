@@ -21,6 +21,54 @@ SKIP = 77  # CTest SKIP_RETURN_CODE
 
 TOKEN = "observer-test-token-0123456789"
 BENCH_TOKEN = "bench-token-0123456789abcdef"
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+
+
+class Checks:
+    """check(ok, what) prints the check's result and keeps what failed in .failures (the list
+    Programs.finish() takes)."""
+
+    def __init__(self):
+        self.failures = []
+
+    def __call__(self, ok, what):
+        print(("ok: " if ok else "FAIL: ") + what)
+        if not ok:
+            self.failures.append(what)
+
+
+def wait_for(what, predicate, timeout_s):
+    """predicate()'s first truthy value, polled every 0.25 s; AssertionError after timeout_s."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.25)
+    raise AssertionError("timed out waiting for " + what)
+
+
+def program_args(argv, doc, browser=False):
+    """(robot_server, mostar_web, source, screenshot_copy or None) from a test's command line
+    `ROBOT_SERVER MOSTAR_WEB SOURCE_DIR [--screenshot PATH]`, or an exit status: 2 after
+    printing `doc` when the arguments are wrong, SKIP when `browser` and chromium or chromedriver
+    is missing."""
+    args = argv[1:]
+    screenshot = None
+    if len(args) == 5 and args[3] == "--screenshot":
+        screenshot = args.pop(4)
+        args.pop(3)
+    if len(args) != 3:
+        print(doc)
+        return 2
+    if browser:
+        for tool in (CHROMIUM, CHROMEDRIVER):
+            if not os.path.exists(tool):
+                print("SKIP: %s is missing (deploy/install-deps.sh installs chromium and "
+                      "chromium-driver)" % tool)
+                return SKIP
+    return args[0], args[1], args[2], screenshot
 
 
 class Programs:
@@ -250,7 +298,7 @@ def frame_header(payload):
 class WebDriver:
     """A chromedriver session (W3C WebDriver over HTTP on loopback) running headless Chromium."""
 
-    def __init__(self, work, chromium="/usr/bin/chromium", chromedriver="/usr/bin/chromedriver",
+    def __init__(self, work, chromium=CHROMIUM, chromedriver=CHROMEDRIVER,
                  window=(1280, 800)):
         s = socket.socket()
         s.bind(("127.0.0.1", 0))
