@@ -6,13 +6,16 @@
 #include <opencv2/imgproc.hpp>
 
 #include "robot_server/sim/laser_raycast.h"
+#include "robot_server/sim/scene.h"
 #include "robot_server/sim/sim_test_helpers.h"
+#include "robot_server/sim/sim_world.h"
 
 namespace mostar::sim {
 namespace {
 
 using testing::NoiselessConfig;
 using testing::OpenFloor;
+using testing::SourceDir;
 
 class RendererFixture : public ::testing::Test {
  protected:
@@ -185,6 +188,172 @@ TEST_F(RendererFixture, ContactShadowsCanBeSwitchedOff) {
     } else {
       EXPECT_EQ(floor_near, floor_open);
       EXPECT_EQ(wall_low, wall_high);
+    }
+  }
+}
+
+// The picture by definition, one World::Trace per pixel: the ray through the pixel centre
+// (undistorted by fixed point), Shade, distance fall-off, vignetting and eye gain, no blur and
+// no noise. Labels as in ground_truth.h.
+struct ReferenceImage {
+  cv::Mat bgr;     // CV_8UC3
+  cv::Mat labels;  // CV_8U
+};
+
+ReferenceImage TraceEveryPixel(const World& world, const CameraParams& p, double laser_height_m,
+                               Eye eye, const Pose2D& pose) {
+  const LaserCameraCalibration& k = p.calibration;
+  const double cam_x = k.camera_x_m, cam_y = k.EyeYm(eye), cam_z = laser_height_m + k.camera_z_m;
+  const double c = std::cos(pose.theta_rad), s = std::sin(pose.theta_rad);
+  const double ox = pose.x_m + c * cam_x - s * cam_y, oy = pose.y_m + s * cam_x + c * cam_y;
+  const double ct = std::cos(k.tilt_rad), st = std::sin(k.tilt_rad);
+  const double gain = eye == Eye::kLeft ? p.left_gain : p.right_gain;
+  ReferenceImage out{cv::Mat(k.height_px, k.width_px, CV_8UC3),
+                     cv::Mat(k.height_px, k.width_px, CV_8U)};
+  for (int v = 0; v < k.height_px; ++v) {
+    for (int u = 0; u < k.width_px; ++u) {
+      const double xd = (u - k.cx_px) / k.focal_px, yd = (v - k.Cy(eye)) / k.focal_px;
+      double xn = xd, yn = yd;
+      for (int it = 0; it < 20; ++it) {
+        const double r2 = xn * xn + yn * yn;
+        xn = xd / (1 + k.k1 * r2 + k.k2 * r2 * r2);
+        yn = yd / (1 + k.k1 * r2 + k.k2 * r2 * r2);
+      }
+      const double bx = ct - yn * st, by = -xn, bz = -st - yn * ct;
+      const RayHit hit = world.Trace(ox, oy, cam_z, pose.theta_rad + std::atan2(by, bx),
+                                     bz / std::hypot(bx, by), 1e9, /*skip_transparent=*/false);
+      const Rgb colour = world.Shade(hit, p.contact_shadows);
+      const double cos2 = 1.0 / (1.0 + xn * xn + yn * yn);
+      const double vignette = p.vignetting ? 0.55 + 0.45 * cos2 * cos2 : 1.0;
+      const double dist = hit.kind == RayHit::kNothing ? 0.0 : hit.h_m;
+      const double gain_px = gain * vignette / (1.0 + 0.035 * dist);
+      out.bgr.at<cv::Vec3b>(v, u) = cv::Vec3b(cv::saturate_cast<uint8_t>(colour.b * gain_px),
+                                              cv::saturate_cast<uint8_t>(colour.g * gain_px),
+                                              cv::saturate_cast<uint8_t>(colour.r * gain_px));
+      uint8_t label = kLabelVoid;
+      if (hit.kind == RayHit::kObstacle)
+        label = static_cast<uint8_t>(std::min(hit.obstacle->id, 253));
+      if (hit.kind == RayHit::kFloor) label = kLabelFloor;
+      if (hit.kind == RayHit::kCeiling) label = kLabelCeiling;
+      out.labels.at<uint8_t>(v, u) = label;
+    }
+  }
+  return out;
+}
+
+// The shipped corridor (walls with skirting, boxes, cylinders, a person, the ceiling, a tiled
+// floor with contact shadows), seen from poses in and near it, with vignetting and a lens
+// distortion: the fast renderer draws what a trace of every pixel gives. Obstacles are crossed
+// per azimuth bin a quarter pixel wide, so labels may differ on silhouettes only, and colours
+// by the rounding of a grey level where a bin's ray and the pixel's ray fall on different
+// floor tiles or texture cells.
+TEST(StereoRendererReferenceTest, DrawsWhatATraceOfEveryPixelGives) {
+  proto::Scene scene;
+  proto::SimConfig config;
+  std::string error;
+  ASSERT_TRUE(LoadScene(SourceDir() + "/deploy/scenes/corridor.pbtxt", &scene, &error)) << error;
+  ASSERT_TRUE(LoadSimConfig(SourceDir() + "/deploy/config/sim_morduc.pbtxt", &config, &error))
+      << error;
+  config.mutable_camera()->set_noise_sigma(0);
+  config.mutable_camera()->set_blur_sigma_px(0);
+  config.mutable_camera()->set_k1(-0.04);
+  const World world(scene);
+  const CameraParams params = CameraParams::FromProto(config.camera());
+  const StereoRenderer renderer(world, params, config.laser().height_m());
+  for (const Pose2D& pose :
+       {Pose2D{0, 0, 0}, Pose2D{3.1, 0.4, 0.5}, Pose2D{6.3, -0.5, -0.9}, Pose2D{11.0, 0.2, 3.0}}) {
+    SCOPED_TRACE(::testing::Message() << "pose " << pose.x_m << " " << pose.y_m);
+    StereoImages images;
+    renderer.Render(pose, 0, /*with_truth=*/true, &images);
+    for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+      const bool left = eye == Eye::kLeft;
+      const ReferenceImage ref =
+          TraceEveryPixel(world, params, config.laser().height_m(), eye, pose);
+      const cv::Mat& image = left ? images.left : images.right;
+      const cv::Mat& labels = left ? images.left_truth.labels : images.right_truth.labels;
+      ASSERT_EQ(image.size(), ref.bgr.size());
+      ASSERT_EQ(image.type(), CV_8UC3);
+      const double n = static_cast<double>(image.total());
+      EXPECT_LT(cv::countNonZero(labels != ref.labels) / n, 0.004);
+      cv::Mat diff;
+      cv::absdiff(image, ref.bgr, diff);
+      diff = diff.reshape(1);
+      EXPECT_LT(cv::mean(diff)[0], 0.15);
+      EXPECT_LT(cv::countNonZero(diff > 2) / (3 * n), 0.004);
+      // Where the labels agree, the colour is the trace's up to rounding and texture cells.
+      const cv::Mat agree = (labels == ref.labels);
+      cv::Mat diff3 = diff.reshape(3), grey;
+      cv::cvtColor(diff3, grey, cv::COLOR_BGR2GRAY);
+      EXPECT_LT(cv::countNonZero((grey > 1) & agree) / n, 0.002);
+    }
+  }
+}
+
+// Blur and sensor noise on top of the sharp picture: the blur is the Gaussian of the sharp
+// image, the noise zero-mean with the configured sigma.
+TEST_F(RendererFixture, BlurAndNoiseSitOnTheSharpPicture) {
+  const std::string scene =
+      "floor { pattern: CHECKERBOARD square_m: 0.5 colour { r: 200 g: 190 b: 180 } "
+      "colour2 { r: 40 g: 40 b: 50 } }\n"
+      "wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 }";
+  Build(scene);
+  const cv::Mat sharp = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 3, nullptr);
+  proto::SimConfig config = NoiselessConfig();
+  config.mutable_camera()->set_blur_sigma_px(0.6);
+  Build(scene, config);
+  const cv::Mat blurred = renderer_->RenderEye(Eye::kLeft, Pose2D{}, 3, nullptr);
+  cv::Mat expected;
+  cv::GaussianBlur(sharp, expected, cv::Size(0, 0), 0.6);
+  EXPECT_LE(cv::norm(blurred, expected, cv::NORM_INF), 1.0);
+  EXPECT_GT(cv::norm(blurred, sharp, cv::NORM_INF), 20.0);  // the checker edges did soften
+
+  config.mutable_camera()->set_noise_sigma(2.0);
+  Build(scene, config);
+  for (const uint64_t frame : {3, 4}) {
+    const cv::Mat noisy = renderer_->RenderEye(Eye::kLeft, Pose2D{}, frame, nullptr);
+    cv::Mat noise;
+    cv::subtract(noisy, blurred, noise, cv::noArray(), CV_32F);
+    cv::Scalar mean, sigma;
+    cv::meanStdDev(noise.reshape(1), mean, sigma);
+    EXPECT_NEAR(mean[0], 0.0, 0.05);
+    EXPECT_NEAR(sigma[0], 2.0, 0.1);
+  }
+}
+
+// The renderer's shortcut for plain sides: above the height it gives, Shade() of any hit on
+// that side is the plain colour; below it (skirting board, contact shadow) it is not.
+TEST(WorldShadingTest, PlainSideIsWhatShadeGivesFromItsHeightUp) {
+  const World world(OpenFloor(
+      "wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 height_m: 2 baseboard_height_m: 0.08 }\n"
+      "box { x_m: 2 y_m: 3 size_x_m: 0.4 size_y_m: 0.6 height_m: 0.5 elevation_m: 0.3 }\n"
+      "cylinder { x_m: -2 y_m: 0 radius_m: 0.3 height_m: 1 material { texture: STRIPES } }"));
+  for (const bool shadows : {true, false}) {
+    for (const Obstacle& ob : world.obstacles()) {
+      SCOPED_TRACE(::testing::Message()
+                   << ob.name << (shadows ? " with" : " without") << " shadows");
+      RayHit hit;
+      hit.kind = RayHit::kObstacle;
+      hit.obstacle = &ob;
+      hit.nx = -0.6;
+      hit.ny = 0.8;
+      double from_z_m;
+      const Rgb plain = world.ShadePlainSide(ob, hit.nx, hit.ny, shadows, &from_z_m);
+      if (ob.kind == ShapeKind::kCylinder) {
+        EXPECT_TRUE(std::isinf(from_z_m));  // striped
+        continue;
+      }
+      EXPECT_EQ(from_z_m, ob.kind == ShapeKind::kWall ? (shadows ? 0.25 : 0.08) : -INFINITY);
+      int plain_seen = 0, other_seen = 0;
+      for (hit.z_m = ob.z_min_m; hit.z_m <= ob.z_max_m; hit.z_m += 0.01) {
+        const Rgb shaded = world.Shade(hit, shadows);
+        const bool same = shaded.r == plain.r && shaded.g == plain.g && shaded.b == plain.b;
+        EXPECT_EQ(same, hit.z_m >= from_z_m) << "z " << hit.z_m;
+        (same ? plain_seen : other_seen)++;
+      }
+      EXPECT_GT(plain_seen, 10);
+      if (ob.kind == ShapeKind::kWall) {
+        EXPECT_GT(other_seen, 5);  // the skirting board at least
+      }
     }
   }
 }

@@ -233,12 +233,16 @@ World::World(const proto::Scene& scene) : scene_(scene) {
   floor_.pattern = fl.pattern();
   floor_.colour = fl.has_colour() ? ToRgb(fl.colour()) : Rgb{150, 140, 125};
   floor_.colour2 = fl.has_colour2() ? ToRgb(fl.colour2()) : Rgb{25, 25, 25};
-  floor_.joint = Scale(floor_.colour, 0.86);
+  floor_.joint_colour = Scale(floor_.colour, 0.86);
+  floor_.per_square_m = 1.0 / floor_.square_m;
+  floor_.joint = 0.006 / floor_.square_m;
+  floor_.light = lighting_.ambient + (1 - lighting_.ambient) * 0.5 * (1.0 + lighting_.lz);
 
   // Floor occlusion: distance from each floor cell to the nearest footprint standing on it.
   const auto& f = scene.floor();
   const double area = (f.max_x_m() - f.min_x_m()) * (f.max_y_m() - f.min_y_m());
   occlusion_res_m_ = std::max(0.02, std::sqrt(area / 2e6));
+  per_occlusion_res_m_ = 1.0 / occlusion_res_m_;
   const int cols = static_cast<int>(std::ceil((f.max_x_m() - f.min_x_m()) / occlusion_res_m_));
   const int rows = static_cast<int>(std::ceil((f.max_y_m() - f.min_y_m()) / occlusion_res_m_));
   cv::Mat free_mask(rows, cols, CV_8U, cv::Scalar(255));
@@ -359,23 +363,32 @@ bool World::CircleCollides(double x, double y, double r) const {
 }
 
 Rgb World::FloorAlbedo(double x, double y, bool* inside, bool* dark_square) const {
+  *inside = OnFloor(x, y);
+  double factor;
+  const Rgb& colour = FloorAlbedoAt(x, y, dark_square, &factor);
+  return factor == 1.0 ? colour : Scale(colour, factor);
+}
+
+inline const Rgb& World::FloorAlbedoAt(double x, double y, bool* dark_square,
+                                       double* factor) const {
   const FloorCache& f = floor_;
   *dark_square = false;
-  *inside = x >= f.min_x_m && x <= f.max_x_m && y >= f.min_y_m && y <= f.max_y_m;
+  *factor = 1.0;
   switch (f.pattern) {
     case proto::Floor::PLAIN:
       return f.colour;
     case proto::Floor::FAINT_PATTERN: {
-      const double ux = x / f.square_m, uy = y / f.square_m;
+      const double ux = x * f.per_square_m, uy = y * f.per_square_m;
       const double ix = std::floor(ux), iy = std::floor(uy);
       const double fx = ux - ix, fy = uy - iy;
-      const double joint = 0.006 / f.square_m;
-      if (fx < joint || fx > 1 - joint || fy < joint || fy > 1 - joint) return f.joint;
-      const double k = 0.96 + 0.08 * TileHash(static_cast<int64_t>(ix), static_cast<int64_t>(iy));
-      return Scale(f.colour, k);
+      if (fx < f.joint || fx > 1 - f.joint || fy < f.joint || fy > 1 - f.joint) {
+        return f.joint_colour;
+      }
+      *factor = 0.96 + 0.08 * TileHash(static_cast<int64_t>(ix), static_cast<int64_t>(iy));
+      return f.colour;
     }
     case proto::Floor::CHECKERBOARD:
-      if (Odd(x / f.square_m, y / f.square_m)) {
+      if (Odd(x * f.per_square_m, y * f.per_square_m)) {
         *dark_square = true;
         return f.colour2;
       }
@@ -404,34 +417,53 @@ Rgb World::ObstacleAlbedo(const RayHit& hit, bool* dark) const {
 }
 
 float World::FloorOcclusion(double x, double y) const {
-  const int c = static_cast<int>((x - floor_.min_x_m) / occlusion_res_m_);
-  const int r = static_cast<int>((y - floor_.min_y_m) / occlusion_res_m_);
+  const int c = static_cast<int>((x - floor_.min_x_m) * per_occlusion_res_m_);
+  const int r = static_cast<int>((y - floor_.min_y_m) * per_occlusion_res_m_);
   if (r < 0 || c < 0 || r >= occlusion_.rows || c >= occlusion_.cols) return 1.f;
   return occlusion_.at<float>(r, c);
 }
 
+Rgb World::ShadeFloor(double x, double y, bool contact_shadows) const {
+  bool dark;
+  double k;
+  const Rgb& albedo = FloorAlbedoAt(x, y, &dark, &k);
+  k *= floor_.light;
+  if (contact_shadows) k *= FloorOcclusion(x, y);
+  return Scale(albedo, k * lighting_.brightness);
+}
+
+double World::Light(double nx, double ny, double nz) const {
+  // Half-Lambert: indoor light comes from many lamps and bounces, so surfaces facing away
+  // from the main light are dimmer but not dark.
+  const double cos_l = nx * lighting_.lx + ny * lighting_.ly + nz * lighting_.lz;
+  const double diffuse = 0.5 * (1.0 + cos_l);
+  return lighting_.ambient + (1 - lighting_.ambient) * diffuse;
+}
+
+Rgb World::ShadePlainSide(const Obstacle& o, double nx, double ny, bool contact_shadows,
+                          double* plain_from_z_m) const {
+  *plain_from_z_m = std::numeric_limits<double>::infinity();
+  if (o.surface.texture != proto::Material::SOLID) return {};
+  double from_z_m = -std::numeric_limits<double>::infinity();
+  if (o.kind == ShapeKind::kWall) from_z_m = o.baseboard_height_m;  // see ObstacleAlbedo
+  if (contact_shadows && o.z_min_m < 0.05) from_z_m = std::max(from_z_m, o.z_min_m + 0.25);
+  *plain_from_z_m = from_z_m;
+  return Scale(o.surface.colour, Light(nx, ny, 0) * lighting_.brightness);
+}
+
 Rgb World::Shade(const RayHit& hit, bool contact_shadows) const {
-  const double amb = lighting_.ambient, bright = lighting_.brightness;
+  const double bright = lighting_.brightness;
   switch (hit.kind) {
     case RayHit::kNothing:
       return Scale({22, 22, 26}, bright);
     case RayHit::kCeiling:
       return Scale(ceiling_colour_, bright);
-    case RayHit::kFloor: {
-      bool inside, dark;
-      const Rgb albedo = FloorAlbedo(hit.x_m, hit.y_m, &inside, &dark);
-      double k = amb + (1 - amb) * 0.5 * (1.0 + lighting_.lz);
-      if (contact_shadows) k *= FloorOcclusion(hit.x_m, hit.y_m);
-      return Scale(albedo, k * bright);
-    }
+    case RayHit::kFloor:
+      return ShadeFloor(hit.x_m, hit.y_m, contact_shadows);
     case RayHit::kObstacle: {
       bool dark;
       const Rgb albedo = ObstacleAlbedo(hit, &dark);
-      // Half-Lambert: indoor light comes from many lamps and bounces, so surfaces facing away
-      // from the main light are dimmer but not dark.
-      const double cos_l = hit.nx * lighting_.lx + hit.ny * lighting_.ly + hit.nz * lighting_.lz;
-      const double diffuse = 0.5 * (1.0 + cos_l);
-      double k = amb + (1 - amb) * diffuse;
+      double k = Light(hit.nx, hit.ny, hit.nz);
       if (contact_shadows && hit.face == Face::kSide && hit.obstacle->z_min_m < 0.05 &&
           hit.z_m - hit.obstacle->z_min_m < 0.25) {
         k *= 1.0 - 0.25 * std::exp(-(hit.z_m - hit.obstacle->z_min_m) / 0.04);

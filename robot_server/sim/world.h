@@ -124,12 +124,25 @@ class World {
   }
   // Ambient occlusion of the floor near obstacle bases, 0..1 (1 = open floor).
   float FloorOcclusion(double x_m, double y_m) const;
+  // Shade() of a floor hit at (x, y), which must lie within the floor extent (the per-pixel
+  // path of the cameras).
+  Rgb ShadeFloor(double x_m, double y_m, bool contact_shadows) const;
+  // Where the side of `obstacle` with outward normal (nx, ny) is plain (no texture, skirting
+  // board or contact shadow), Shade() of any hit on it at a height z_m >= *plain_from_z_m is
+  // the colour returned. *plain_from_z_m is +inf when the side is textured.
+  Rgb ShadePlainSide(const Obstacle& obstacle, double nx, double ny, bool contact_shadows,
+                     double* plain_from_z_m) const;
 
   // Lit colour of a hit (kNothing gives the dark void colour). Distance fall-off excluded.
   // `contact_shadows`: apply FloorOcclusion and the darkening of obstacle sides near the floor.
   Rgb Shade(const RayHit& hit, bool contact_shadows = true) const;
 
  private:
+  // Floor albedo as a colour times a factor.
+  const Rgb& FloorAlbedoAt(double x_m, double y_m, bool* dark_square, double* factor) const;
+  // Half-Lambert light factor of a surface with unit normal n, before brightness.
+  double Light(double nx, double ny, double nz) const;
+
   proto::Scene scene_;
   std::vector<Obstacle> obstacles_;
   Lighting lighting_;
@@ -138,12 +151,16 @@ class World {
   // Floor, copied out of the proto for the per-pixel paths.
   struct FloorCache {
     double min_x_m, min_y_m, max_x_m, max_y_m, square_m;
+    double per_square_m;  // 1 / square_m
+    double joint;         // joint width in squares (FAINT_PATTERN)
     proto::Floor::Pattern pattern;
-    Rgb colour, colour2, joint;
+    Rgb colour, colour2, joint_colour;
+    double light;  // Lambert factor of the horizontal floor, before brightness
   } floor_;
   // Floor occlusion map: cell (row, col) covers [min_x + col*res, ...] x [min_y + row*res, ...].
   cv::Mat occlusion_;  // CV_32F
   double occlusion_res_m_ = 0.02;
+  double per_occlusion_res_m_ = 50;  // 1 / occlusion_res_m_
 };
 
 }  // namespace mostar::sim
