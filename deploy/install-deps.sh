@@ -10,7 +10,7 @@ PACKAGES=(
   # DDS: runtime, generator (brings a JRE), tools; OpenSSL for DDS Security certificates
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   # sensors, maths, vision, config
-  libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev
+  libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev libceres-dev
   # bumper contacts on GPIO lines (the Linux GPIO character device)
   libgpiod-dev
   # service manager readiness and watchdog (sd_notify)

@@ -123,9 +123,9 @@ void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
   if (latest) tracer_.Picked(latest->sequence, clock_->SteadyNow());
   std::string error;
-  vision_->Update(
-      latest, options_.vision_enabled, [this](Time stamp) { return robot_->NearestScan(stamp); },
-      OverlayBuilder(&error));
+  const auto nearest = [this](Time stamp) { return robot_->NearestScan(stamp); };
+  vision_->Update(latest, options_.vision_enabled, nearest, OverlayBuilder(&error));
+  selfcal_.Update(vision_->picker().shown_result(), nearest, options_.vision, geometry_);
 }
 
 const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* error) {
@@ -276,7 +276,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     DrawCalibrationPanel(options_.calibration_path,
                          {&options_.show_calibration_panel, &options_.calibration, &options_.ar,
                           &options_.left_alignment, &options_.right_alignment,
-                          &options_.alignment_model, &options_.mode, &status_line_},
+                          &options_.alignment_model, &options_.mode, &status_line_, &selfcal_},
                          vision_->OffsetHint([this](double residual_px) {
                            return SuggestedRightOffsetInProfile(geometry_, options_.left_alignment,
                                                                 image_scale_, residual_px);

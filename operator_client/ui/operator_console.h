@@ -23,6 +23,7 @@
 #include "operator_client/ui/ar_builder_cache.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/console_input.h"
+#include "operator_client/ui/console_self_calibration.h"
 #include "operator_client/ui/console_vision.h"
 #include "operator_client/ui/decode_scaling.h"
 #include "operator_client/ui/drive_input.h"
@@ -169,6 +170,7 @@ class OperatorConsole {
   render::StereoGeometry geometry_;  // both eyes, rebuilt when an input changes
   ImageScale image_scale_;  // the decoded images against the calibration; geometry_ uses it
   std::unique_ptr<ConsoleVision> vision_;  // from Init()
+  ConsoleSelfCalibration selfcal_;         // proposals from the shown edge results
   std::optional<PairCapture> capture_;
 
   EdgeViewPanel edge_view_;

@@ -142,6 +142,62 @@ void DrawStereoAlignment(const CalibrationPanelTargets& edit,
   render::CropForRightOffset(dx, dy, left, right);
 }
 
+// One row of the proposal table: the parameter, its current and its proposed value.
+void ProposalRow(const char* name, const char* format, double current, double proposed) {
+  ImGui::TableNextRow();
+  ImGui::TableNextColumn();
+  ImGui::TextUnformatted(name);
+  ImGui::TableNextColumn();
+  ImGui::Text(format, current);
+  ImGui::TableNextColumn();
+  ImGui::Text(format, proposed);
+}
+
+// The self-calibration's proposal (issue 17): current vs proposed values, the reprojection
+// error of both over the proposal's inliers, whether it can be trusted, Apply and Reject.
+void DrawSelfCalibration(ConsoleSelfCalibration* self, math::LaserCameraCalibration* live,
+                         std::string* status_line) {
+  ImGui::Text("Self-calibration (%zu agreeing NEPs in the window)", self->window_points());
+  const std::shared_ptr<const calibration::FitResult> shown = self->proposal();
+  if (!shown) {
+    ImGui::TextDisabled("no proposal yet: edges on, drive past walls");
+    return;
+  }
+  if (!shown->ok) {
+    ImGui::TextDisabled("no proposal: %s", shown->reason.c_str());
+    return;
+  }
+  const math::LaserCameraCalibration& a = shown->start;
+  const math::LaserCameraCalibration& b = shown->proposal;
+  if (ImGui::BeginTable("self_calibration", 3, ImGuiTableFlags_BordersInnerV)) {
+    ImGui::TableSetupColumn("");
+    ImGui::TableSetupColumn("current");
+    ImGui::TableSetupColumn("proposed");
+    ImGui::TableHeadersRow();
+    ProposalRow("focal [px]", "%.1f", a.focal_px, b.focal_px);
+    ProposalRow("camera x [m]", "%.4f", a.camera_x_m, b.camera_x_m);
+    ProposalRow("camera y [m]", "%.4f", a.camera_y_m, b.camera_y_m);
+    ProposalRow("camera z [m]", "%.4f", a.camera_z_m, b.camera_z_m);
+    ProposalRow("tilt [deg]", "%.2f", a.tilt_rad * kRadToDeg, b.tilt_rad * kRadToDeg);
+    ProposalRow("pan [deg]", "%.2f", a.pan_rad * kRadToDeg, b.pan_rad * kRadToDeg);
+    ProposalRow("roll [deg]", "%.2f", a.roll_rad * kRadToDeg, b.roll_rad * kRadToDeg);
+    ProposalRow("error p50 [px]", "%.2f", shown->before.p50_px, shown->after.p50_px);
+    ProposalRow("error p95 [px]", "%.2f", shown->before.p95_px, shown->after.p95_px);
+    ImGui::EndTable();
+  }
+  ImGui::Text("%zu of %zu points fit", shown->inliers, shown->points);
+  if (shown->trustworthy) {
+    ImGui::TextUnformatted("trustworthy");
+  } else {
+    ImGui::TextColored(ImVec4(1.f, 0.7f, 0.2f, 1.f), "not trustworthy: %s", shown->reason.c_str());
+  }
+  ImGui::BeginDisabled(!shown->trustworthy);
+  if (ImGui::Button("Apply proposal")) self->Apply(live, status_line);
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  if (ImGui::Button("Reject")) self->Reject();
+}
+
 void DrawDisplayMode(render::DisplayMode* mode) {
   int mode_index = 0;
   const char* names[render::kDisplayModeCount];
@@ -177,6 +233,10 @@ void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPane
   ImGui::Separator();
   DrawStereoAlignment(edit, hint);
   DrawDisplayMode(edit.mode);
+  if (edit.self_calibration != nullptr) {
+    ImGui::Separator();
+    DrawSelfCalibration(edit.self_calibration, edit.calibration, edit.status_line);
+  }
   ImGui::End();
 }
 

@@ -1,9 +1,10 @@
 // The calibration and AR panel (C): laser-camera calibration sliders in the thesis' order,
 // save/load/reset of the profile (with the stereo alignment), AR feature switches and colour
 // thresholds, the stereo alignment of the right eye (model, offsets, NESC's vertical offset
-// suggestion with Apply) and the display mode. Edits go straight into the caller's
-// values; a calibration edit that would be invalid is refused (status line). ImGui; render
-// thread.
+// suggestion with Apply), the self-calibration's proposal against the current values with both
+// reprojection errors (Apply / Reject; never applied without the click) and the display mode. Edits
+// go straight into the caller's values; a calibration edit that would be invalid is refused (status
+// line). ImGui; render thread.
 #pragma once
 
 #include <optional>
@@ -13,6 +14,7 @@
 #include "operator_client/fusion/ar_features.h"
 #include "operator_client/render/display_mode.h"
 #include "operator_client/render/eye_geometry.h"
+#include "operator_client/ui/console_self_calibration.h"
 #include "operator_client/ui/stereo_hint.h"
 
 namespace mostar::ui {
@@ -27,6 +29,8 @@ struct CalibrationPanelTargets {
   render::AlignmentModel* alignment_model;
   render::DisplayMode* mode;
   std::string* status_line;  // outcome of save/load, refused edits
+  // The self-refining calibration's proposal with Apply and Reject; null: no such section.
+  ConsoleSelfCalibration* self_calibration = nullptr;
 };
 
 // `profile_path`: where Save writes and Load reads (empty: calibration_profile.pbtxt).

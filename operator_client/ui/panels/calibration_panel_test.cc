@@ -17,7 +17,7 @@ struct Panel {
 };
 
 // Lays out the panel for a few frames in a display of `w` x `h` and returns its window.
-Panel LayOut(float w, float h) {
+Panel LayOut(float w, float h, ConsoleSelfCalibration* self = nullptr) {
   ImGuiContext* context = ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;
@@ -40,8 +40,8 @@ Panel LayOut(float w, float h) {
   Panel panel;
   for (int frame = 0; frame < 4; ++frame) {
     ImGui::NewFrame();
-    DrawCalibrationPanel("", {&open, &calibration, &ar, &left, &right, &model, &mode, &status},
-                         hint);
+    DrawCalibrationPanel(
+        "", {&open, &calibration, &ar, &left, &right, &model, &mode, &status, self}, hint);
     ImGui::EndFrame();
     const ImGuiWindow* window = ImGui::FindWindowByName("Calibration");
     if (window != nullptr) panel = {window->Pos, window->Size, window->ScrollMax.y};
@@ -58,6 +58,14 @@ TEST(CalibrationPanelTest, FitsA640By480WindowAndScrolls) {
   const Panel large = LayOut(1280, 1200);
   EXPECT_FLOAT_EQ(large.scroll_max_y, 0.f) << "everything fits";
   EXPECT_GT(large.size.y, small.size.y);
+}
+
+TEST(CalibrationPanelTest, SelfCalibrationSectionAddsToThePanelAndStillScrolls) {
+  ConsoleSelfCalibration self;  // no proposal yet: the section says so
+  const Panel small = LayOut(640, 480, &self);
+  EXPECT_LE(small.pos.y + small.size.y, 480.f);
+  EXPECT_GT(small.scroll_max_y, LayOut(640, 480).scroll_max_y);
+  EXPECT_GT(LayOut(1280, 1200, &self).size.y, LayOut(1280, 1200).size.y);
 }
 
 }  // namespace

@@ -1,0 +1,72 @@
+// The self-refining calibration in the console (issue 17): the shown edge results' agreeing
+// NEPs fill a rolling window of correspondences (calibration/edge_correspondences.h); at a low
+// rate the window goes to a fit worker (calibration/fit_worker.h) with the eyes' image
+// calibrations; the calibration panel shows the newest proposal and the operator applies or
+// rejects it. Nothing is ever applied without Apply().
+//
+// Render thread only; never waits for the fit. No GL, no ImGui.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/math/camera_model.h"
+#include "common/types/laser_scan.h"
+#include "operator_client/calibration/edge_correspondences.h"
+#include "operator_client/calibration/fit_worker.h"
+#include "operator_client/render/eye_geometry.h"
+#include "operator_client/vision/vision_pipeline.h"
+
+namespace mostar::ui {
+
+class ConsoleSelfCalibration {
+ public:
+  struct Options {
+    size_t window_points = 3000;                     // newest correspondences kept
+    Duration window_age = std::chrono::seconds(60);  // and none older than this
+    Duration fit_period = std::chrono::seconds(2);   // of image time between fits
+    calibration::CorrespondenceOptions correspondences;
+    calibration::FitOptions fit;
+  };
+  using NearestScan = std::function<std::optional<LaserScan>(Time stamp)>;
+
+  ConsoleSelfCalibration() : ConsoleSelfCalibration(Options{}) {}
+  // The options must be valid (asserted).
+  explicit ConsoleSelfCalibration(const Options& options);
+
+  // One render tick with the shown edge result (null: none yet). A result not seen before adds
+  // its correspondences, with the scan nearest its stamp (the one the edge worker was given);
+  // every fit_period of image time the window is handed to the fit worker with `geometry`'s
+  // image calibrations. An image size change empties the window.
+  void Update(const std::shared_ptr<const vision::VisionResult>& result,
+              const NearestScan& nearest_scan, const vision::VisionOptions& vision,
+              const render::StereoGeometry& geometry);
+
+  // The proposal to show: the newest fit, unless rejected or computed from a calibration that
+  // is no longer in force (after Apply or a slider edit). Null when there is none.
+  std::shared_ptr<const calibration::FitResult> proposal() const;
+  size_t window_points() const { return window_.size(); }
+
+  // Moves `live` (the profile) by what the proposal changes (calibration::MoveParameters: the
+  // fit ran on the image models, which may be scaled) and hides the proposal. Refused, with
+  // `message` saying why, when there is no trustworthy proposal.
+  bool Apply(math::LaserCameraCalibration* live, std::string* message);
+  // Hides the proposal until the next fit.
+  void Reject();
+
+ private:
+  Options options_;
+  calibration::CorrespondenceWindow window_;
+  calibration::FitWorker worker_;
+  uint64_t last_sequence_ = 0;
+  bool seen_any_ = false;
+  std::optional<Time> last_fit_stamp_;
+  int width_px_ = 0;
+  int height_px_ = 0;
+  calibration::ParameterVector in_force_{};  // the left image calibration now
+  std::shared_ptr<const calibration::FitResult> rejected_;
+};
+
+}  // namespace mostar::ui

@@ -1,0 +1,160 @@
+#include "operator_client/ui/console_self_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+namespace mostar::ui {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+const Time kT0 = FromUnixNanos(1'700'000'000'000'000'000);
+
+math::LaserCameraCalibration Truth() {
+  math::LaserCameraCalibration c;
+  c.focal_px = 440.0;
+  c.tilt_rad = 14.0 * kDeg;
+  return c;
+}
+
+// A rectangular room (walls x = 3.2, y = +-1.4, laser frame) turned by `yaw`: ranges per beam,
+// and edge results whose NEPs are the true images of the walls' bases (both eyes; every beam
+// agrees with its laser point).
+struct Frame {
+  LaserScan scan;
+  std::shared_ptr<const vision::VisionResult> result;
+};
+
+Frame RoomFrame(double yaw, uint64_t sequence, Time stamp) {
+  Frame frame;
+  LaserScan& scan = frame.scan;
+  scan.stamp = stamp;
+  scan.angle_min_rad = static_cast<float>(-M_PI / 2);
+  scan.angle_increment_rad = static_cast<float>(M_PI / 180);
+  scan.range_min_m = 0.1f;
+  scan.range_max_m = 8.f;
+  const math::LaserCameraCalibration truth = Truth();
+  const math::CameraModel eyes[2] = {math::CameraModel(truth, Eye::kLeft),
+                                     math::CameraModel(truth, Eye::kRight)};
+  auto result = std::make_shared<vision::VisionResult>();
+  result->ok = true;
+  result->stamp = stamp;
+  result->sequence = sequence;
+  result->classification.beams.resize(181);
+  result->left_ned.neps.resize(181);
+  result->right_ned.neps.resize(181);
+  for (int i = 0; i < 181; ++i) {
+    const double a = scan.angle_min_rad + i * scan.angle_increment_rad;
+    const double c = std::cos(a + yaw), s = std::sin(a + yaw);
+    double r = 1e9;
+    if (c > 1e-6) r = std::min(r, 3.2 / c);
+    if (std::abs(s) > 1e-6) r = std::min(r, 1.4 / std::abs(s));
+    scan.ranges_m.push_back(static_cast<float>(r));
+    result->classification.beams[i].relation = vision::NepRelation::kAgrees;
+    const Eigen::Vector3d base(r * std::cos(a), r * std::sin(a), -truth.laser_height_m);
+    for (int e = 0; e < 2; ++e) {
+      const std::optional<Eigen::Vector2d> px = eyes[e].Project(base);
+      if (!px || !eyes[e].IsInImage(*px)) continue;
+      vision::Nep& nep = (e == 0 ? result->left_ned : result->right_ned).neps[i];
+      nep.found = true;
+      nep.distance_m = r;
+      nep.metres_per_px = 0.01;
+      nep.pixel = *px;
+    }
+  }
+  frame.result = std::move(result);
+  return frame;
+}
+
+render::StereoGeometry Geometry(const math::LaserCameraCalibration& c) {
+  render::StereoGeometry geometry;
+  std::string error;
+  EXPECT_TRUE(geometry.Update(c, c, render::AlignmentModel::kSharedModel, {}, {}, &error)) << error;
+  return geometry;
+}
+
+// Feeds frames turning through the room until a fit is published.
+std::shared_ptr<const calibration::FitResult> FeedUntilProposal(ConsoleSelfCalibration* self,
+                                                                const render::StereoGeometry& g,
+                                                                int frames) {
+  for (int k = 0; k < frames; ++k) {
+    const Frame frame =
+        RoomFrame(0.25 * std::sin(0.4 * k), k + 1, kT0 + std::chrono::milliseconds(500) * k);
+    self->Update(
+        frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, g);
+    self->Update(
+        frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, g);
+  }
+  for (int i = 0; i < 600 && !self->proposal(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    self->Update(nullptr, nullptr, vision::VisionOptions{}, g);
+  }
+  return self->proposal();
+}
+
+TEST(ConsoleSelfCalibrationTest, ProposesAndAppliesOnlyOnRequest) {
+  math::LaserCameraCalibration live = Truth();
+  live.tilt_rad += 1.5 * kDeg;
+  live.focal_px *= 0.95;
+  const math::LaserCameraCalibration before = live;
+  ConsoleSelfCalibration::Options options;
+  options.fit_period = std::chrono::seconds(5);
+  ConsoleSelfCalibration self(options);
+  EXPECT_EQ(self.proposal(), nullptr);
+  const render::StereoGeometry geometry = Geometry(live);
+  const std::shared_ptr<const calibration::FitResult> shown =
+      FeedUntilProposal(&self, geometry, 12);
+  ASSERT_NE(shown, nullptr);
+  EXPECT_GT(self.window_points(), 100u);
+  ASSERT_TRUE(shown->ok) << shown->reason;
+  EXPECT_TRUE(shown->trustworthy) << shown->reason;
+  EXPECT_EQ(live.tilt_rad, before.tilt_rad) << "nothing changes before Apply";
+  std::string message;
+  ASSERT_TRUE(self.Apply(&live, &message)) << message;
+  EXPECT_NEAR(live.tilt_rad, Truth().tilt_rad, 0.1 * kDeg);
+  EXPECT_NEAR(live.focal_px, Truth().focal_px, 0.005 * Truth().focal_px);
+  EXPECT_EQ(self.proposal(), nullptr) << "an applied proposal is not shown again";
+  EXPECT_FALSE(self.Apply(&live, &message));
+}
+
+TEST(ConsoleSelfCalibrationTest, RejectHidesAndStaleProposalsAreNotShown) {
+  const math::LaserCameraCalibration live = Truth();
+  ConsoleSelfCalibration self;
+  const render::StereoGeometry geometry = Geometry(live);
+  ASSERT_NE(FeedUntilProposal(&self, geometry, 5), nullptr);
+  self.Reject();
+  EXPECT_EQ(self.proposal(), nullptr);
+  std::string message;
+  math::LaserCameraCalibration target = live;
+  EXPECT_FALSE(self.Apply(&target, &message));
+  EXPECT_FALSE(message.empty());
+
+  ConsoleSelfCalibration other;
+  ASSERT_NE(FeedUntilProposal(&other, geometry, 5), nullptr);
+  math::LaserCameraCalibration edited = live;
+  edited.tilt_rad += 0.01;  // a slider edit: the proposal started from another calibration
+  other.Update(nullptr, nullptr, vision::VisionOptions{}, Geometry(edited));
+  EXPECT_EQ(other.proposal(), nullptr);
+}
+
+TEST(ConsoleSelfCalibrationTest, EachResultCountsOnceAndAnImageSizeChangeEmptiesTheWindow) {
+  ConsoleSelfCalibration self;
+  math::LaserCameraCalibration c = Truth();
+  const render::StereoGeometry geometry = Geometry(c);
+  const Frame frame = RoomFrame(0.0, 1, kT0);
+  self.Update(
+      frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, geometry);
+  const size_t once = self.window_points();
+  EXPECT_GT(once, 0u);
+  self.Update(
+      frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, geometry);
+  EXPECT_EQ(self.window_points(), once);
+  c.image_width_px = 1280;
+  c.image_height_px = 960;
+  self.Update(nullptr, nullptr, vision::VisionOptions{}, Geometry(c));
+  EXPECT_EQ(self.window_points(), 0u);
+}
+
+}  // namespace
+}  // namespace mostar::ui
