@@ -25,6 +25,19 @@ for unit in "$robot" "$relay"; do
     check "$unit has $line" 'grep -qxE "$line" "$src/deploy/$unit"'
   done
 done
+# The overlay's TCP fallback (docs/networking.md): no fixed user, no capability but the hub's
+# low port, no devices.
+tunnel=systemd/mostar-wg-tcp.service
+tunnel_hub=systemd/mostar-wg-tcp-hub.service
+for unit in "$tunnel" "$tunnel_hub"; do
+  for line in "ProtectProc=invisible" "ProcSubset=pid" "DynamicUser=yes" "NoNewPrivileges=yes" \
+      "PrivateDevices=yes" "Restart=always"; do
+    check "$unit has $line" 'has "$unit" "$line"'
+  done
+done
+check "the peer's tunnel has no capability" 'has "$tunnel" "CapabilityBoundingSet="'
+check "the hub's tunnel may bind a low port and do nothing else privileged" \
+  'has "$tunnel_hub" "CapabilityBoundingSet=CAP_NET_BIND_SERVICE"'
 check "the robot's devices are closed but for its own" 'has "$robot" "DevicePolicy=closed"'
 for device in /dev/lms200 /dev/mostar-drive; do
   check "the robot server may open $device" 'has "$robot" "DeviceAllow=$device rw"'
@@ -40,7 +53,7 @@ check "the motor board node is the group mostar's, mode 0660" \
    grep -E "^SUBSYSTEM==\"tty\".*SYMLINK\+=\"mostar-drive\"" "$src/deploy/udev/70-mostar-drive.rules" | grep -q "MODE=\"0660\""'
 
 if command -v systemd-analyze >/dev/null; then
-  for unit in "$robot" "$relay"; do
+  for unit in "$robot" "$relay" "$tunnel" "$tunnel_hub"; do
     name=$(basename "$unit")
     sed 's|^ExecStart=/usr/bin/[^ ]*|ExecStart=/bin/true|' "$src/deploy/$unit" > "$work/$name"
     out=$(systemd-analyze verify "$work/$name" 2>&1) && status=0 || status=$?

@@ -9,6 +9,7 @@
 #                   [--observer NAME[:PUBLIC_KEY] ...]
 #                   [--robot robot] [--subnet 10.77.0] [--mtu 1420] [--keepalive-s 15]
 #                   [--dds-template deploy/dds/overlay.xml]
+#                   [--tcp-hub HOST:PORT [--tunnel-port 51821]]
 #
 #   --hub-endpoint HOST:PORT  the public host's address (or DNS name) and UDP port
 #   --peer NAME               a robot or operator computer; its key pair is made here
@@ -20,6 +21,11 @@
 #   --robot NAME              which peer is the robot (default: robot), the one operators dial
 #   --subnet A.B.C            the overlay's /24 (default 10.77.0): hub .1, peers from .2 in
 #                             the order they are first named
+#   --tcp-hub HOST:PORT       also write the TCP fallback for sites that block UDP: the hub's
+#                             mostar_wg_tcp server listens on TCP PORT (e.g. 443); each peer's
+#                             NAME.tcp.conf names its local mostar_wg_tcp client
+#                             (127.0.0.1:TUNNEL_PORT) as the hub's endpoint
+#   --tunnel-port PORT        the local UDP port of that client (default 51821)
 # Running it again with new names adds peers with the same hub and the same addresses for the
 # existing ones (state in OUT_DIR/peers.tsv); the hub's config is rewritten: reload it with
 # `wg syncconf mostar-hub <(wg-quick strip mostar-hub)`.
@@ -36,6 +42,11 @@
 #                                       make_pki.sh --profile-dir, then NAME.xml to the program
 #   peers.tsv                           name, overlay address, public key, who made the key,
 #                                       role (peer or observer)
+# and with --tcp-hub (docs/networking.md, "TCP fallback"):
+#   NAME.tcp.conf                       NAME.conf with the endpoint 127.0.0.1:TUNNEL_PORT:
+#                                       install it as /etc/wireguard/mostar.conf instead
+#   NAME.wg-tcp.env                     /etc/mostar/wg-tcp.env for mostar-wg-tcp.service
+#   hub.wg-tcp.env                      /etc/mostar/wg-tcp-hub.env for mostar-wg-tcp-hub.service
 # Copy to each computer only its own NAME.conf (and NAME.dds.xml). The hub never sees a peer's
 # private key when the peer made its own.
 set -euo pipefail
@@ -49,6 +60,7 @@ out=$1; shift
 here=$(cd "$(dirname "$0")" && pwd)
 endpoint="" subnet=10.77.0 mtu=1420 keepalive=15 robot=robot
 template="$here/../dds/overlay.xml"
+tcp_hub="" tunnel_port=51821
 peers=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -60,6 +72,8 @@ while [ $# -gt 0 ]; do
     --mtu) mtu=$2; shift 2 ;;
     --keepalive-s) keepalive=$2; shift 2 ;;
     --dds-template) template=$2; shift 2 ;;
+    --tcp-hub) tcp_hub=$2; shift 2 ;;
+    --tunnel-port) tunnel_port=$2; shift 2 ;;
     -h|--help) usage ;;
     *) die "unknown option $1" ;;
   esac
@@ -68,6 +82,11 @@ done
 [[ "$endpoint" =~ ^[A-Za-z0-9.:-]+:[0-9]+$ ]] || die "--hub-endpoint must be HOST:PORT"
 [[ "$subnet" =~ ^[0-9]+\.[0-9]+\.[0-9]+$ ]] || die "--subnet must be three octets, e.g. 10.77.0"
 [ -f "$template" ] || die "no DDS template $template"
+if [ -n "$tcp_hub" ]; then
+  [[ "$tcp_hub" =~ ^[A-Za-z0-9.:-]+:[0-9]+$ ]] || die "--tcp-hub must be HOST:PORT"
+fi
+[[ "$tunnel_port" =~ ^[0-9]+$ ]] && [ "$tunnel_port" -ge 1 ] && [ "$tunnel_port" -le 65535 ] ||
+  die "--tunnel-port must be 1..65535"
 command -v wg >/dev/null || die "wg is required (Debian package wireguard-tools)"
 port=${endpoint##*:}
 
@@ -150,6 +169,21 @@ while IFS=$'\t' read -r name addr key own role; do
     echo "AllowedIPs = $subnet.0/24"
     echo "PersistentKeepalive = $keepalive"
   } > "$out/$name.conf"
+  if [ -n "$tcp_hub" ]; then
+    # The same peer behind the TCP fallback: WireGuard sends to the local tunnel client, and
+    # a keepalive after 2 s of silence, so that after the tunnel reconnects the hub learns the
+    # new endpoint within 2 s even when the peer has nothing else to send.
+    sed -e "s#^Endpoint = .*#Endpoint = 127.0.0.1:$tunnel_port#" \
+        -e "s#^PersistentKeepalive = .*#PersistentKeepalive = 2#" \
+        -e "s#^\(\# mostar overlay peer .*\)\$#\1 Over TCP via mostar-wg-tcp.service.#" \
+        "$out/$name.conf" > "$out/$name.tcp.conf"
+    {
+      echo "# mostar_wg_tcp client of peer $name. Install as /etc/mostar/wg-tcp.env."
+      echo "HUB=$tcp_hub"
+      echo "LISTEN=127.0.0.1:$tunnel_port"
+    } > "$out/$name.wg-tcp.env"
+    chmod 0644 "$out/$name.wg-tcp.env"
+  fi
   # Operators dial the robot; observers dial the relay on the hub.
   dials=$robot_addr
   [ "$role" != observer ] || dials=$subnet.1
@@ -163,4 +197,12 @@ sed -e "/mostar:overlay-address/ s#<address>[0-9.]*</address>#<address>$subnet.1
     -e "/mostar:robot-address/ s#<address>[0-9.]*</address>#<address>$robot_addr</address>#" \
     "$template" > "$out/hub.dds.xml"
 chmod 0644 "$out/hub.pub" "$out/peers.tsv" "$out/hub.dds.xml"
+if [ -n "$tcp_hub" ]; then
+  {
+    echo "# mostar_wg_tcp server on the hub. Install as /etc/mostar/wg-tcp-hub.env."
+    echo "LISTEN=0.0.0.0:${tcp_hub##*:}"
+    echo "WIREGUARD=127.0.0.1:$port"
+  } > "$out/hub.wg-tcp.env"
+  chmod 0644 "$out/hub.wg-tcp.env"
+fi
 echo "make_overlay.sh: hub $endpoint ($subnet.1), peers: $(cut -f1,2 "$out/peers.tsv" | tr '\t\n' '= ')"

@@ -86,6 +86,24 @@ check "a second run adds the new peer at the next address" '[ "$(field carol 2)"
 check "the rewritten hub config has all five peers" \
   '[ "$(grep -c "^\[Peer\]" "$out/mostar-hub.conf")" = 5 ]'
 
+# The TCP fallback (--tcp-hub): the same keys and addresses, the endpoint is the local tunnel.
+"$gen" "$work/tcp" --hub-endpoint hub.example.org:51820 --peer robot --observer dave \
+  --tcp-hub hub.example.org:443 --tunnel-port 51900 > "$work/log3"
+tcp="$work/tcp"
+check "a TCP fallback peer config differs from the UDP one only in the endpoint, a 2 s keepalive (and its comment)" \
+  '[ "$(conf_value "$tcp/robot.tcp.conf" Endpoint)" = 127.0.0.1:51900 ] &&
+   [ "$(conf_value "$tcp/robot.tcp.conf" PersistentKeepalive)" = 2 ] &&
+   [ "$(diff <(grep -v "^#\|^Endpoint\|^PersistentKeepalive" "$tcp/robot.conf") <(grep -v "^#\|^Endpoint\|^PersistentKeepalive" "$tcp/robot.tcp.conf"))" = "" ]'
+check "each peer's tunnel client dials the hub's TCP port and listens where WireGuard sends" \
+  'grep -qx "HUB=hub.example.org:443" "$tcp/dave.wg-tcp.env" &&
+   grep -qx "LISTEN=127.0.0.1:51900" "$tcp/dave.wg-tcp.env"'
+check "the hub's tunnel server listens on the TCP port and forwards to its WireGuard port" \
+  'grep -qx "LISTEN=0.0.0.0:443" "$tcp/hub.wg-tcp.env" &&
+   grep -qx "WIREGUARD=127.0.0.1:51820" "$tcp/hub.wg-tcp.env"'
+cp "$tcp/robot.tcp.conf" "$work/ttcp.conf"
+check "wg-quick parses a TCP fallback peer config" 'wg-quick strip "$work/ttcp.conf" > /dev/null'
+check "without --tcp-hub no fallback files are written" '[ ! -e "$out/robot.tcp.conf" ] && [ ! -e "$out/hub.wg-tcp.env" ]'
+
 refused() {  # expected message part, arguments...
   local want=$1; shift
   local msg
@@ -98,6 +116,8 @@ check "a bad peer name is refused" 'refused "must be" --hub-endpoint h:1 --peer 
 check "a malformed public key is refused" 'refused "not a WireGuard key" --hub-endpoint h:1 --peer x:abc'
 check "a peer named hub is refused" 'refused "public host" --hub-endpoint h:1 --peer hub'
 check "an overlay without its robot is refused" 'refused "no peer named robot" --hub-endpoint h:1 --peer alice'
+check "a TCP hub without a port is refused" 'refused "--tcp-hub must be HOST:PORT" --hub-endpoint h:1 --peer robot --tcp-hub h'
+check "a bad tunnel port is refused" 'refused "--tunnel-port must be" --hub-endpoint h:1 --peer robot --tcp-hub h:443 --tunnel-port 70000'
 
 [ "$failures" -eq 0 ] || exit 1
 echo "make_overlay_test: all checks passed"

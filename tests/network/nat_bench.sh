@@ -8,6 +8,12 @@
 # wireguard-go) and the per-peer UDP profiles the generator writes from deploy/dds/overlay.xml,
 # with DDS Security on top (make_pki.sh) unless SECURE=0.
 #
+# TRANSPORT=tcp: the TCP fallback. Every NAT forwards no UDP at all (nat_topology.sh
+# --block-udp), so WireGuard's datagrams travel through mostar_wg_tcp (WG_TCP: its path): a
+# client on every host, named by the host's WireGuard as the hub's endpoint, dials the server on
+# the hub's TCP port 443, which hands them to the hub's WireGuard. DDS is unchanged (UDP inside
+# the overlay).
+#
 # Each run starts everything afresh: robot_server (simulator), a headless operator_client
 # pilot driving forward at SPEED, net_probe observers obs1 and obs2. Once the robot drives and
 # PRE_S seconds have passed, the robot's uplink is cut both ways (nftables in NAT A) for the
@@ -22,8 +28,11 @@
 #   video back  link back -> first left image captured after it, at the pilot, obs1, obs2 (s)
 #   fresh       link back -> first left image younger than FRESH_MS at each of them (s)
 #   steady      before the cut, at obs2: stereo pairs/s, left age p50/p95 (ms), scan age p95;
-#               what the robot sent into the overlay over PRE_S (Mbit/s)
+#               the pilot's commands, send -> arrival at the robot, p50/p95 (ms); what the
+#               robot sent into the overlay over PRE_S (Mbit/s)
 #   exit        SIGTERM -> exit of every program (max, s); "hang" when one needed SIGKILL
+# and after each row a STEADY line: pairs/s and left age p50/p95 at the pilot and each observer
+# and the control one-way p50/p95, over the 5 s before the cut.
 #
 # Usage: nat_bench.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR
 # Environment: RUNS ("5": outage seconds or "readdress", one run each; e.g. "5 5 30 readdress"),
@@ -32,7 +41,10 @@
 # and the relay's, whatever the number of observers; "direct": every observer subscribes to the
 # robot), SECURE (1: DDS Security on top of the overlay, made by make_pki.sh; 0: off),
 # PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
-# KEEP_WORK=1 keeps logs and traces. Prints RESULT lines (key=value) for the test wrapper.
+# TRANSPORT ("udp", or "tcp" with WG_TCP), KEEP_WORK=1 keeps logs and traces. Prints RESULT
+# lines (key=value) for the test wrapper; with TRANSPORT=tcp also udp_blocked (a probe
+# datagram dropped by NAT A: 1) and endpoints_not_tunnel (peers the hub's WireGuard saw at an
+# address other than its tunnel server's: 0).
 # Needs root, nftables, wireguard-go, wireguard-tools, openssl, xvfb-run and python3;
 # exit 77 (skipped) without them.
 set -euo pipefail
@@ -58,6 +70,12 @@ video_quality=${VIDEO_QUALITY:-60}
 observers=${OBSERVERS-obs1 obs2}
 via=${VIA:-relay}
 secure=${SECURE:-1}
+transport=${TRANSPORT:-udp}
+case "$transport" in
+  udp) ;;
+  tcp) [ -x "${WG_TCP:-}" ] || { echo "nat_bench: TRANSPORT=tcp needs WG_TCP (mostar_wg_tcp)" >&2; exit 2; } ;;
+  *) echo "nat_bench: TRANSPORT must be udp or tcp" >&2; exit 2 ;;
+esac
 insecure=()  # SECURE=0: the overlay's profiles without DDS Security, allowed by --insecure
 [ "$secure" = 1 ] || insecure=(--insecure)
 
@@ -67,11 +85,13 @@ work=$(mktemp -d /tmp/mostar_nat_XXXXXX)
 pids=()
 export WG_QUICK_USERSPACE_IMPLEMENTATION=wireguard-go
 hosts=(robot pilot obs1 obs2)
+tunnel_pids=()  # TRANSPORT=tcp: mostar_wg_tcp on the hub and every host
 
 teardown() {  # ends one run's topology: programs, WireGuard sockets, namespaces
   for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done
   for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
   pids=()
+  tunnel_pids=()
   "$here/nat_topology.sh" down "$prefix" >/dev/null 2>&1 || true
   rm -f /var/run/wireguard/w"$tag"*.sock
 }
@@ -102,12 +122,43 @@ wait_for() {
 overlay_up() {
   local run=$1 h
   # (called in an || list, where set -e does not apply: every step says its failure)
-  "$here/nat_topology.sh" up "$prefix" --netem "$netem_relay" --log-dir "$run" >/dev/null ||
-    return 1
+  local topology=() fallback=() conf=conf
+  if [ "$transport" = tcp ]; then
+    topology=(--block-udp)
+    fallback=(--tcp-hub 198.18.0.10:443)
+    conf=tcp.conf
+  fi
+  "$here/nat_topology.sh" up "$prefix" --netem "$netem_relay" --log-dir "$run" "${topology[@]}" \
+    >/dev/null || return 1
   local observer_kind=--peer
   [ "$via" != relay ] || observer_kind=--observer
   "$src/deploy/wan/make_overlay.sh" "$run/overlay" --hub-endpoint 198.18.0.10:51820 \
-    --peer robot --peer pilot "$observer_kind" obs1 "$observer_kind" obs2 >/dev/null || return 1
+    --peer robot --peer pilot "$observer_kind" obs1 "$observer_kind" obs2 "${fallback[@]}" \
+    >/dev/null || return 1
+  if [ "$transport" = tcp ]; then
+    # UDP really is blocked: a probe from the robot's LAN is dropped (and counted) by NAT A.
+    ip netns exec "${prefix}_robot" bash -c 'echo probe > /dev/udp/198.18.0.10/9' || true
+    echo "$("$here/nat_topology.sh" blocked "$prefix" a)" > "$run/udp_blocked"
+    # The tunnel: its server on the hub, a client on every host (as the systemd units run them).
+    local env
+    env=$(grep -v '^#' "$run/overlay/hub.wg-tcp.env" | tr '\n' ' ')
+    eval "local $env"
+    ip netns exec "${prefix}_hub" "$WG_TCP" server --listen "$LISTEN" --wireguard "$WIREGUARD" \
+      >"$run/tunnel_hub.log" 2>&1 &
+    tunnel_pids+=("hub=$!"); pids+=($!)
+    for h in "${hosts[@]}"; do
+      env=$(grep -v '^#' "$run/overlay/$h.wg-tcp.env" | tr '\n' ' ')
+      eval "local $env"
+      ip netns exec "${prefix}_$h" "$WG_TCP" client --hub "$HUB" --listen "$LISTEN" \
+        >"$run/tunnel_$h.log" 2>&1 &
+      tunnel_pids+=("$h=$!"); pids+=($!)
+    done
+    # WireGuard's first handshake would otherwise be dropped and retried only after 5 s.
+    for h in "${hosts[@]}"; do
+      wait_for "grep -q 'connected to' '$run/tunnel_$h.log'" 100 ||
+        { echo "nat_bench: the tunnel of $h did not connect" >&2; return 1; }
+    done
+  fi
   if [ "$secure" = 1 ]; then
     # DDS Security on top of the overlay, as the recipe does: NAME.xml from NAME.dds.xml. The
     # pilot's certificate carries its client id, "operator" (the simulator's role table).
@@ -124,7 +175,7 @@ overlay_up() {
   ip netns exec "${prefix}_hub" wg-quick up "$run/w${tag}hub.conf" >"$run/wg_hub.log" 2>&1 ||
     return 1
   for h in "${hosts[@]}"; do
-    cp "$run/overlay/$h.conf" "$run/w$tag$h.conf"
+    cp "$run/overlay/$h.$conf" "$run/w$tag$h.conf"
     ip netns exec "${prefix}_$h" wg-quick up "$run/w$tag$h.conf" >"$run/wg_$h.log" 2>&1 || return 1
   done
   # Every peer's handshake with the hub (keepalives start it).
@@ -222,6 +273,13 @@ run_one() {  # index, outage seconds or "readdress"
   [ -z "$probe2" ] || exits+=" obs2=$(stop_timed "$probe2")"
   exits+=" robot=$(stop_timed "$robot_pid")"
   [ "$via" != relay ] || exits+=" relay=$(stop_timed "$relay_pid")"
+  if [ "$transport" = tcp ]; then
+    # Before the tunnels stop: where the hub's WireGuard sees its peers (all at the tunnel).
+    wg show "w${tag}hub" endpoints | awk '$2 !~ /^127\.0\.0\.1:/' | wc -l \
+      > "$run/endpoints_not_tunnel"
+    local t
+    for t in "${tunnel_pids[@]}"; do exits+=" tunnel_${t%%=*}=$(stop_timed "${t#*=}")"; done
+  fi
   echo "$exits" > "$run/exits"
   teardown
   python3 - "$run" "$i" "$what" "$fresh_ms" <<'EOF'
@@ -272,18 +330,33 @@ def pct(v, q):
 win = [(rx, age) for rx, age in (obs["obs2"] or pilot) if t_down - 5e9 <= rx < t_down]
 scans = [rx - st for k, rx, st in trace("obs2.csv") if k == "scan" and t_down - 5e9 <= rx < t_down]
 uplink = int(open(os.path.join(run, "uplink_kbit")).read()) / 1000.0
-steady = "%.1f pairs/s, %.0f / %.0f ms, scan p95 %.0f ms; robot sends %.1f Mbit/s" % (
+# Control one-way: the pilot's command (its stamp) -> its arrival at the robot, by sequence.
+sent = {v: t for k, t, v in trace("client.csv") if k == "command"}
+control = [t - sent[v] for k, t, v in server
+           if k == "command_rx" and v in sent and t_down - 5e9 <= t < t_down]
+steady = "%.1f pairs/s, %.0f / %.0f ms, scan p95 %.0f ms; control %.0f / %.0f ms; robot sends %.1f Mbit/s" % (
     len(win) / 5.0, pct([a for _, a in win], 0.5) / 1e6, pct([a for _, a in win], 0.95) / 1e6,
-    pct(scans, 0.95) / 1e6, uplink)
+    pct(scans, 0.95) / 1e6, pct(control, 0.5) / 1e6, pct(control, 0.95) / 1e6, uplink)
+def at(samples):  # pairs/s and left age p50 / p95 over the 5 s before the cut
+    w = [age for rx, age in samples if t_down - 5e9 <= rx < t_down]
+    return "%.1f pairs/s %.0f / %.0f ms" % (len(w) / 5.0, pct(w, 0.5) / 1e6, pct(w, 0.95) / 1e6)
+steady_each = "STEADY pilot: %s; obs1: %s; obs2: %s; control one-way p50 / p95: %.0f / %.0f ms" % (
+    at(pilot), at(obs["obs1"]), at(obs["obs2"]), pct(control, 0.5) / 1e6, pct(control, 0.95) / 1e6)
 exits = dict(kv.split("=") for kv in open(os.path.join(run, "exits")).read().split())
 hangs = [k for k, v in exits.items() if v == "hang"]
 slowest = max((float(v) for v in exits.values() if v not in ("hang", "gone")), default=0.0)
 exit_cell = ("hang: " + ",".join(hangs)) if hangs else "%.2f" % slowest
 label = what + (" s" if what.isdigit() else "")
 print("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (idx, label, stop_ms, stale, drive_s, back, video, steady, exit_cell))
-print("RESULT run=%s stop_ms=%s stale=%s drive_s=%s back=%s fresh=%s exit=%s" % (
+print(steady_each)
+extra = ""
+for name in ("udp_blocked", "endpoints_not_tunnel"):
+    path = os.path.join(run, name)
+    if os.path.exists(path):
+        extra += " %s=%s" % (name, open(path).read().strip() or "none")
+print("RESULT run=%s stop_ms=%s stale=%s drive_s=%s back=%s fresh=%s exit=%s%s" % (
     idx, stop_ms, stale, drive_s, back.replace(" ", ""), video.replace(" ", ""),
-    exit_cell.replace(" ", "")))
+    exit_cell.replace(" ", ""), extra))
 EOF
 }
 

@@ -8,6 +8,9 @@
 #   video captured after it, each within 10 s (the soak bench measures the p95 and the time
 #   to fresh video, which depends on the machine's load);
 # - SIGTERM ends every program within 2 s.
+# With TRANSPORT=tcp and WG_TCP (mostar_wg_tcp), the same over the TCP fallback with UDP
+# blocked at every NAT, and also: a UDP probe was dropped at NAT A, and the hub's WireGuard saw
+# every peer at its tunnel server, none across a NAT (ctest: network_nat_tcp_fallback).
 # Usage: nat_test.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR
 # Exit 77 (CTest: skipped) where the bench cannot run.
 set -euo pipefail
@@ -29,5 +32,11 @@ check "video back at observer 1, behind the pilot's NAT, within 10 s ($v_obs1 s)
 check "video back at observer 2, behind its own NAT, within 10 s ($v_obs2 s)" 'at_most "$v_obs2" 10'
 echo "nat_test: fresh video (age < 200 ms) after link back, pilot / obs1 / obs2: $fresh s"
 check "every program ended within 2 s of SIGTERM ($exit_s)" 'at_most "$exit_s" 2'
+if [ "${TRANSPORT:-udp}" = tcp ]; then
+  blocked=$(value udp_blocked); outside=$(value endpoints_not_tunnel)
+  check "UDP is blocked at NAT A (probe datagrams dropped: $blocked)" '[ "${blocked:-0}" -ge 1 ]'
+  check "the hub's WireGuard saw every peer through the tunnel ($outside elsewhere)" \
+    '[ "$outside" = 0 ]'
+fi
 [ "$failures" -eq 0 ] || exit 1
 echo "nat_test: all checks passed"

@@ -15,16 +15,20 @@
 # LAN side is 192.168.1.1. The addresses exist only inside these namespaces.
 #
 #   nat_topology.sh up PREFIX [--netem NETEM_RELAY] [--delay-ms 50] [--jitter-ms 5]
-#                             [--loss 0.01] [--rate-kbit 8000] [--log-dir DIR]
+#                             [--loss 0.01] [--rate-kbit 8000] [--log-dir DIR] [--block-udp]
 #       create it. With --netem, the three NATs' public links are netem_relay processes (delay,
 #       jitter and loss each way, a rate-limited queue; defaults above: 50 ms one-way on each
 #       side, so host to host through the hub is 100 ms one-way); without it they are veth
-#       pairs. PIDs of the relays go to /tmp/PREFIX.netem.pids.
+#       pairs. PIDs of the relays go to /tmp/PREFIX.netem.pids. With --block-udp the three NATs
+#       forward no UDP from their LAN (a site that allows only TCP out, as some corporate,
+#       hotel and campus networks do); the drops count in the NAT's counter "udp_blocked"
+#       (`nat_topology.sh blocked PREFIX SITE` prints it).
 #   nat_topology.sh outage PREFIX SITE on|off   cut (or restore) SITE's public link both ways
 #       (SITE: a, b, c or hub): an nftables table in the NAT (or hub) that drops everything on
 #       its public interface, so existing NAT mappings stay as a short outage leaves them.
 #   nat_topology.sh readdress PREFIX SITE N      give SITE's NAT the public address 198.18.X.N
 #       (the robot's router got a new address from its provider)
+#   nat_topology.sh blocked PREFIX SITE          UDP datagrams SITE's NAT dropped (--block-udp)
 #   nat_topology.sh down PREFIX                  delete everything (also kills what runs inside)
 #   nat_topology.sh namespaces PREFIX            print the namespace names, one per line
 # Needs root, `ip netns`, nftables and /dev/net/tun (with --netem). Exit 77 where namespaces
@@ -91,20 +95,23 @@ public_link() {
 }
 
 # A NAT router: LAN bridge 192.168.1.1/24, masquerade to "wan", nothing inbound that the LAN did
-# not start.
+# not start; with $2 = block-udp no UDP out either (counted).
 nat_router() {
-  local ns=$1
+  local ns=$1 udp_rule=""
+  [ "${2:-}" != block-udp ] || udp_rule='iifname "br0" meta l4proto udp counter name udp_blocked drop'
   ip -n "$ns" link add br0 type bridge
   ip -n "$ns" addr add 192.168.1.1/24 dev br0
   ip -n "$ns" link set br0 up
   ip netns exec "$ns" sysctl -qw net.ipv4.ip_forward=1
-  ip netns exec "$ns" nft -f - <<'EOF'
+  ip netns exec "$ns" nft -f - <<EOF
 table ip nat {
   chain postrouting { type nat hook postrouting priority srcnat; oifname "wan" masquerade; }
 }
 table ip filter {
+  counter udp_blocked {}
   chain forward {
     type filter hook forward priority filter; policy drop;
+    $udp_rule
     iifname "br0" accept
     ct state established,related accept
   }
@@ -138,7 +145,7 @@ case "$cmd" in
   up)
     p=${2:-}; [ -n "$p" ] || die "usage: nat_topology.sh up PREFIX [options]"
     shift 2
-    netem="" delay_ms=50 jitter_ms=5 loss=0.01 rate_kbit=8000 log_dir=/tmp
+    netem="" delay_ms=50 jitter_ms=5 loss=0.01 rate_kbit=8000 log_dir=/tmp block_udp=""
     while [ $# -gt 0 ]; do
       case "$1" in
         --netem) netem=$2; shift 2 ;;
@@ -147,6 +154,7 @@ case "$cmd" in
         --loss) loss=$2; shift 2 ;;
         --rate-kbit) rate_kbit=$2; shift 2 ;;
         --log-dir) log_dir=$2; shift 2 ;;
+        --block-udp) block_udp=block-udp; shift ;;
         *) die "unknown option $1" ;;
       esac
     done
@@ -155,7 +163,7 @@ case "$cmd" in
     ip netns exec "${p}_inet" sysctl -qw net.ipv4.ip_forward=1
     rm -f "/tmp/$p.netem.pids"
     for site in hub a b c; do public_link "$p" "$site"; done
-    for site in a b c; do nat_router "${p}_nat$site"; done
+    for site in a b c; do nat_router "${p}_nat$site" $block_udp; done
     lan_host "$p" "${p}_nata" robot 10
     lan_host "$p" "${p}_natb" pilot 10
     lan_host "$p" "${p}_natb" obs1 11
@@ -188,6 +196,12 @@ EOF
     ip -n "$ns" route replace default via "198.18.$idx.1" dev wan onlink
     ip -n "${p}_inet" route replace "198.18.$idx.$n/32" dev "wan$idx"
     ;;
+  blocked)
+    p=${2:-}; site=${3:-}
+    [ -n "$p" ] && [ -n "$site" ] || die "usage: blocked PREFIX SITE"
+    ip netns exec "$(site_ns "$site" "$p")" nft list counter ip filter udp_blocked |
+      sed -n 's/.*packets \([0-9]*\).*/\1/p'
+    ;;
   down)
     p=${2:-}; [ -n "$p" ] || die "usage: nat_topology.sh down PREFIX"
     if [ -f "/tmp/$p.netem.pids" ]; then
@@ -207,6 +221,6 @@ EOF
     names "$p" | tr ' ' '\n'
     ;;
   *)
-    die "usage: nat_topology.sh up|outage|readdress|down|namespaces PREFIX ..."
+    die "usage: nat_topology.sh up|outage|readdress|blocked|down|namespaces PREFIX ..."
     ;;
 esac

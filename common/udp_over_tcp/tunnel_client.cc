@@ -1,0 +1,238 @@
+#include "common/udp_over_tcp/tunnel_client.h"
+
+#include <netdb.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <thread>
+#include <utility>
+
+namespace mostar::udp_over_tcp {
+namespace {
+
+constexpr int kMaxUdpReadsPerPoll = 256;  // then the stream gets its turn
+
+int MillisUntil(std::chrono::steady_clock::time_point t,
+                std::chrono::steady_clock::time_point now) {
+  return static_cast<int>(
+      std::max<int64_t>(0, std::chrono::duration_cast<std::chrono::milliseconds>(t - now).count()));
+}
+
+}  // namespace
+
+// A name lookup on a detached thread: the loop polls `done`; an abandoned lookup finishes (or
+// the process ends) on its own.
+struct TunnelClient::Resolve {
+  std::atomic<bool> done{false};
+  sockaddr_storage address{};
+  socklen_t length = 0;
+  std::string error;
+};
+
+TunnelClient::TunnelClient(TunnelClientOptions options)
+    : options_(std::move(options)), backoff_ms_(options_.initial_backoff_ms) {}
+
+TunnelClient::~TunnelClient() {
+  if (udp_fd_ >= 0) close(udp_fd_);
+  if (connect_fd_ >= 0) close(connect_fd_);
+}
+
+bool TunnelClient::Open(std::string* error) {
+  sockaddr_in listen{};
+  if (!ParseIpv4Endpoint(options_.listen, &listen, error, true)) {
+    *error = "--listen: " + *error;
+    return false;
+  }
+  if (!SplitHostPort(options_.hub, &hub_host_, &hub_port_, error)) {
+    *error = "--hub: " + *error;
+    return false;
+  }
+  if (options_.connect_timeout_ms <= 0 || options_.initial_backoff_ms <= 0 ||
+      options_.max_backoff_ms < options_.initial_backoff_ms) {
+    *error = "timeouts must be positive and the maximum backoff at least the initial one";
+    return false;
+  }
+  udp_fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (udp_fd_ < 0 || bind(udp_fd_, reinterpret_cast<const sockaddr*>(&listen), sizeof(listen))) {
+    *error = "cannot bind UDP " + options_.listen + ": " + std::strerror(errno);
+    return false;
+  }
+  port_ = BoundPort(udp_fd_);
+  return true;
+}
+
+TunnelClientCounters TunnelClient::counters() const {
+  TunnelClientCounters c = counters_;
+  c.dropped_queue = dropped_queue_closed_ + (link_ ? link_->counters().datagrams_dropped : 0);
+  return c;
+}
+
+std::vector<std::string> TunnelClient::TakeEvents() { return std::exchange(events_, {}); }
+
+void TunnelClient::StartDial(Clock::time_point now) {
+  auto job = std::make_shared<Resolve>();
+  resolve_ = job;
+  deadline_ = now + std::chrono::milliseconds(options_.connect_timeout_ms);
+  std::thread([job, host = hub_host_, port = std::to_string(hub_port_)] {
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    addrinfo* result = nullptr;
+    const int status = getaddrinfo(host.c_str(), port.c_str(), &hints, &result);
+    if (status != 0 || result == nullptr) {
+      job->error = "cannot resolve " + host + ": " + gai_strerror(status);
+    } else {
+      std::memcpy(&job->address, result->ai_addr, result->ai_addrlen);
+      job->length = result->ai_addrlen;
+    }
+    if (result != nullptr) freeaddrinfo(result);
+    job->done.store(true, std::memory_order_release);
+  }).detach();
+}
+
+void TunnelClient::FinishConnect(Clock::time_point now) {
+  int status = 0;
+  socklen_t length = sizeof(status);
+  if (getsockopt(connect_fd_, SOL_SOCKET, SO_ERROR, &status, &length) != 0) status = errno;
+  if (status != 0) {
+    close(connect_fd_);
+    connect_fd_ = -1;
+    Drop(std::string("connect to ") + options_.hub + " failed: " + std::strerror(status), now);
+    return;
+  }
+  link_ = std::make_unique<StreamLink>(connect_fd_, options_.link);
+  connect_fd_ = -1;
+  // The preamble must arrive within the connect timeout, counted from now.
+  deadline_ = now + std::chrono::milliseconds(options_.connect_timeout_ms);
+}
+
+void TunnelClient::Drop(const std::string& why, Clock::time_point now) {
+  ++counters_.failures;
+  if (link_) {
+    dropped_queue_closed_ += link_->counters().datagrams_dropped;
+    link_.reset();
+  }
+  if (connect_fd_ >= 0) {
+    close(connect_fd_);
+    connect_fd_ = -1;
+  }
+  resolve_.reset();
+  events_.push_back(why + "; dialling again in " + std::to_string(backoff_ms_) + " ms");
+  next_dial_ = now + std::chrono::milliseconds(backoff_ms_);
+  backoff_ms_ = std::min(backoff_ms_ * 2, options_.max_backoff_ms);
+}
+
+void TunnelClient::Deliver(const uint8_t* datagram, size_t size) {
+  if (!have_sender_) {
+    ++counters_.dropped_no_sender;
+    return;
+  }
+  // A full local socket buffer drops the datagram, as UDP would.
+  if (sendto(udp_fd_, datagram, size, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&sender_),
+             sizeof(sender_)) == static_cast<ssize_t>(size)) {
+    ++counters_.udp_out;
+  }
+}
+
+void TunnelClient::ReadUdp() {
+  static thread_local uint8_t buffer[kMaxDatagramBytes];
+  for (int i = 0; i < kMaxUdpReadsPerPoll; ++i) {
+    sockaddr_in from{};
+    socklen_t from_length = sizeof(from);
+    const ssize_t n = recvfrom(udp_fd_, buffer, sizeof(buffer), MSG_DONTWAIT,
+                               reinterpret_cast<sockaddr*>(&from), &from_length);
+    if (n < 0) return;  // EAGAIN, or an ICMP error from an earlier send: nothing to read
+    ++counters_.udp_in;
+    sender_ = from;
+    have_sender_ = true;
+    if (connected()) {
+      // Straight on to the socket while its budget lasts: the queue holds only the excess.
+      link_->Send(buffer, static_cast<size_t>(n));
+      std::string error;
+      if (!link_->OnWritable(&error)) {
+        Drop("connection to " + options_.hub + " ended: " + error, Clock::now());
+      }
+    } else {
+      ++counters_.dropped_no_link;
+    }
+  }
+}
+
+void TunnelClient::Poll(int timeout_ms) {
+  auto now = Clock::now();
+  if (!link_ && connect_fd_ < 0 && !resolve_ && now >= next_dial_) StartDial(now);
+
+  pollfd fds[2] = {{udp_fd_, POLLIN, 0}, {-1, 0, 0}};
+  if (connect_fd_ >= 0) fds[1] = {connect_fd_, POLLOUT, 0};
+  if (link_) {
+    fds[1] = {link_->fd(), static_cast<short>(POLLIN | (link_->wants_write() ? POLLOUT : 0)), 0};
+  }
+  int wait_ms = timeout_ms;
+  if (resolve_) wait_ms = std::min(wait_ms, 20);  // the lookup has no descriptor to poll
+  if (resolve_ || connect_fd_ >= 0 || (link_ && !connected())) {
+    wait_ms = std::min(wait_ms, MillisUntil(deadline_, now));
+  } else if (!link_) {
+    wait_ms = std::min(wait_ms, MillisUntil(next_dial_, now));
+  }
+  if (poll(fds, 2, wait_ms) < 0 && errno != EINTR) return;
+  now = Clock::now();
+
+  if (resolve_ && resolve_->done.load(std::memory_order_acquire)) {
+    const auto job = std::exchange(resolve_, nullptr);
+    if (!job->error.empty()) {
+      Drop(job->error, now);
+    } else {
+      connect_fd_ = socket(job->address.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+      std::string warning, error;
+      if (connect_fd_ < 0) {
+        Drop(std::string("socket: ") + std::strerror(errno), now);
+      } else if (!ConfigureTcpSocket(connect_fd_, options_.tcp, &warning, &error)) {
+        Drop(error, now);
+      } else {
+        if (!warning.empty() && counters_.connects == 0) events_.push_back(warning);
+        if (connect(connect_fd_, reinterpret_cast<const sockaddr*>(&job->address), job->length) !=
+                0 &&
+            errno != EINPROGRESS) {
+          Drop(std::string("connect to ") + options_.hub + ": " + std::strerror(errno), now);
+        }
+      }
+    }
+  } else if (connect_fd_ >= 0 && (fds[1].revents & (POLLOUT | POLLERR | POLLHUP))) {
+    FinishConnect(now);
+  } else if (link_ && fds[1].fd == link_->fd() && fds[1].revents != 0) {
+    const bool was_connected = connected();
+    std::string error;
+    bool ok = true;
+    if (fds[1].revents & (POLLIN | POLLERR | POLLHUP)) {
+      ok = link_->OnReadable([this](const uint8_t* d, size_t s) { Deliver(d, s); }, &error);
+    }
+    if (ok && (fds[1].revents & POLLOUT)) ok = link_->OnWritable(&error);
+    if (!ok) {
+      Drop("connection to " + options_.hub + " ended: " + error, now);
+    } else if (!was_connected && connected()) {
+      ++counters_.connects;
+      backoff_ms_ = options_.initial_backoff_ms;
+      events_.push_back("connected to " + options_.hub);
+    }
+  }
+  if ((resolve_ || connect_fd_ >= 0 || (link_ && !connected())) && now >= deadline_) {
+    Drop(std::string(resolve_           ? "name lookup"
+                     : connect_fd_ >= 0 ? "connect"
+                                        : "the hub's preamble") +
+             " took longer than " + std::to_string(options_.connect_timeout_ms) + " ms",
+         now);
+  }
+
+  if (fds[0].revents & POLLIN) ReadUdp();
+  if (link_ && link_->wants_write()) {  // send what just came in without another poll round
+    std::string error;
+    if (!link_->OnWritable(&error)) Drop("connection to " + options_.hub + " ended: " + error, now);
+  }
+}
+
+}  // namespace mostar::udp_over_tcp

@@ -1,0 +1,92 @@
+// The host side of the UDP-over-TCP tunnel (mostar_wg_tcp client): a local UDP port that the
+// host's WireGuard uses as the hub's endpoint, and one TCP connection to the hub that carries
+// its datagrams. Datagrams from the stream go to the last local UDP sender. A dropped
+// connection (end of stream, reset, TCP user timeout, keepalive, protocol error, no preamble
+// within connect_timeout_ms) is dialled again after a backoff of initial_backoff_ms doubling
+// to max_backoff_ms, reset once a connection is established; datagrams that arrive meanwhile
+// are dropped and counted (WireGuard and DDS repair what matters). The hub's name is looked up
+// on a thread of its own at every dial, so no step of Poll() blocks. Single-threaded use.
+#pragma once
+
+#include <netinet/in.h>
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/udp_over_tcp/stream_link.h"
+#include "common/udp_over_tcp/tunnel_socket.h"
+
+namespace mostar::udp_over_tcp {
+
+struct TunnelClientOptions {
+  std::string listen = "127.0.0.1:51821";  // local UDP address (IPv4) for WireGuard
+  std::string hub;                         // HOST:PORT of the hub's TCP port
+  int connect_timeout_ms = 3000;           // connect, and the peer's preamble, within this
+  int initial_backoff_ms = 250;
+  int max_backoff_ms = 2000;
+  StreamLinkOptions link;
+  TcpTuning tcp;
+};
+
+struct TunnelClientCounters {
+  uint64_t udp_in = 0;             // datagrams from the local WireGuard
+  uint64_t udp_out = 0;            // datagrams delivered to it
+  uint64_t dropped_no_link = 0;    // from WireGuard while not connected
+  uint64_t dropped_queue = 0;      // pushed out of the send queue (all connections)
+  uint64_t dropped_no_sender = 0;  // from the hub before WireGuard sent anything
+  uint64_t connects = 0;           // connections established
+  uint64_t failures = 0;           // dials that failed and connections that ended
+};
+
+class TunnelClient {
+ public:
+  explicit TunnelClient(TunnelClientOptions options);
+  ~TunnelClient();
+  TunnelClient(const TunnelClient&) = delete;
+  TunnelClient& operator=(const TunnelClient&) = delete;
+
+  // Checks the options and binds the UDP port. False with *error (a message naming the option).
+  bool Open(std::string* error);
+
+  // One round of the event loop: waits at most timeout_ms for any socket, then serves them.
+  void Poll(int timeout_ms);
+
+  // The local UDP port bound by Open() (useful with port 0).
+  int port() const { return port_; }
+  bool connected() const { return link_ != nullptr && link_->preamble_received(); }
+  TunnelClientCounters counters() const;
+  // Events worth a log line since the last call (connected, dial failed and why).
+  std::vector<std::string> TakeEvents();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  struct Resolve;
+
+  void StartDial(Clock::time_point now);
+  void FinishConnect(Clock::time_point now);
+  void Drop(const std::string& why, Clock::time_point now);
+  void ReadUdp();
+  void Deliver(const uint8_t* datagram, size_t size);
+
+  TunnelClientOptions options_;
+  std::string hub_host_;
+  int hub_port_ = 0;
+  int udp_fd_ = -1;
+  int port_ = 0;
+  sockaddr_in sender_{};
+  bool have_sender_ = false;
+  std::shared_ptr<Resolve> resolve_;  // a name lookup in flight
+  int connect_fd_ = -1;               // a connect in flight
+  std::unique_ptr<StreamLink> link_;
+  Clock::time_point deadline_{};  // of the lookup, connect or preamble in flight
+  Clock::time_point next_dial_{};
+  int backoff_ms_;
+  uint64_t dropped_queue_closed_ = 0;  // queue drops of links already closed
+  TunnelClientCounters counters_;
+  std::vector<std::string> events_;
+};
+
+}  // namespace mostar::udp_over_tcp
