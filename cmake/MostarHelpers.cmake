@@ -32,6 +32,48 @@ function(mostar_library name)
   mostar_target_settings(${name})
 endfunction()
 
+# Test files spend most of their compile time parsing the same headers (GoogleTest, Eigen,
+# OpenCV, the standard library). mostar_test_pch precompiles them once per build directory with
+# exactly a test file's flags, and every mostar_test reuses it. MOSTAR_TEST_PCH=OFF compiles
+# every test file from its own includes (each file still includes what it uses).
+option(MOSTAR_TEST_PCH "Precompile the headers that test files share" ON)
+
+# mostar_test_compile_settings(<target>): the flags of a test file (also those of the test PCH,
+# which must be identical for the compiler to accept it).
+function(mostar_test_compile_settings target)
+  mostar_target_settings(${target})
+  # Test files themselves are compiled with little optimisation (the code under test keeps the
+  # build type's flags; benchmarks are not tests): they are half of every build. Sanitizer builds
+  # compile them unoptimised, others at -O1, which keeps the warnings that need data-flow
+  # analysis (-Wmaybe-uninitialized, -Wnull-dereference).
+  if(NOT MOSTAR_SANITIZE STREQUAL "")
+    target_compile_options(${target} PRIVATE -O0)
+  elseif(NOT CMAKE_BUILD_TYPE STREQUAL "Debug")
+    target_compile_options(${target} PRIVATE -O1)
+  endif()
+  # Tests find repository files (shipped configs, scenes) through MOSTAR_SOURCE_DIR (environment,
+  # set by CTest) or the compile-time MOSTAR_TEST_SOURCE_DIR / MOSTAR_TEST_BINARY_DIR.
+  target_compile_definitions(${target} PRIVATE MOSTAR_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    MOSTAR_TEST_BINARY_DIR="${PROJECT_BINARY_DIR}")
+endfunction()
+
+# mostar_add_test_pch(): call once, after GTest, Eigen and OpenCV were found and before any
+# mostar_test.
+function(mostar_add_test_pch)
+  if(NOT MOSTAR_TEST_PCH)
+    return()
+  endif()
+  add_library(mostar_test_pch STATIC ${PROJECT_SOURCE_DIR}/cmake/test_pch.cc)
+  target_link_libraries(mostar_test_pch PRIVATE GTest::gtest GTest::gmock Eigen3::Eigen
+    opencv_core opencv_imgproc)
+  mostar_test_compile_settings(mostar_test_pch)
+  target_precompile_headers(mostar_test_pch PRIVATE
+    <algorithm> <atomic> <chrono> <cmath> <cstdint> <cstdio> <cstring> <functional> <map>
+    <memory> <mutex> <optional> <sstream> <string> <thread> <utility> <vector>
+    <gtest/gtest.h> <gmock/gmock.h> <Eigen/Core> <Eigen/Geometry> <opencv2/core.hpp>
+    <opencv2/imgproc.hpp>)
+endfunction()
+
 # mostar_test(<name> SOURCES ... DEPS ... [LABELS ...]): a GoogleTest executable registered
 # with CTest. Each test process gets its own DDS domain id (see common/dds/domain.h).
 # Labels:
@@ -46,20 +88,17 @@ function(mostar_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
-  mostar_target_settings(${name})
-  if(NOT MOSTAR_SANITIZE STREQUAL "")
-    # Sanitizer builds compile the test files themselves unoptimised (the code under test keeps
-    # the build type's flags): test files are half of those builds and compile twice as fast.
-    target_compile_options(${name} PRIVATE -O0)
+  mostar_test_compile_settings(${name})
+  if(MOSTAR_TEST_PCH)
+    # -Winvalid-pch (an error with MOSTAR_WERROR): a test whose flags differ from the PCH's fails
+    # to build instead of silently parsing every header again.
+    target_precompile_headers(${name} REUSE_FROM mostar_test_pch)
+    target_compile_options(${name} PRIVATE -Winvalid-pch)
   endif()
   if(MOSTAR_SANITIZE STREQUAL "thread")
     target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/cmake/tsan_opencv_serial.cc)
     target_link_libraries(${name} PRIVATE opencv_core)
   endif()
-  # Tests find repository files (shipped configs, scenes) through MOSTAR_SOURCE_DIR (environment,
-  # set by CTest) or the compile-time MOSTAR_TEST_SOURCE_DIR / MOSTAR_TEST_BINARY_DIR.
-  target_compile_definitions(${name} PRIVATE MOSTAR_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    MOSTAR_TEST_BINARY_DIR="${PROJECT_BINARY_DIR}")
   set(properties TIMEOUT 300 ENVIRONMENT "MOSTAR_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
   set(labels ${ARG_LABELS})
   if(NOT "e2e" IN_LIST labels AND NOT "timing" IN_LIST labels AND NOT "gl" IN_LIST labels)
