@@ -14,6 +14,7 @@
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/math/calibration_io.h"
+#include "common/process/exit_deadline.h"
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
 #include "operator_client/client_config.pb.h"
@@ -244,8 +245,14 @@ int Run(int argc, char** argv) {
     if (max_frames > 0 && console.rendered_pairs() >= static_cast<uint64_t>(max_frames)) break;
     if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
   }
-  commands.Stop();
-  node.reset();  // no more callbacks into the recorder
+  {
+    // Deleting the DDS entities can block inside Fast DDS 2.9; the client must still end
+    // within 2 s of SIGTERM (exit status 4, no report).
+    const ExitDeadline deadline(std::chrono::milliseconds(1500), 4, "operator_client",
+                                "DDS teardown");
+    commands.Stop();
+    node.reset();  // no more callbacks into the recorder
+  }
   if (recorder && !recorder->Close(&error)) {
     std::cerr << "operator_client: recording: " << error << "\n";
   }

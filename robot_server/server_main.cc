@@ -17,6 +17,7 @@
 #include "common/dds/participant.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
+#include "common/process/exit_deadline.h"
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
 #include "common/service/service_notifier.h"
@@ -31,6 +32,10 @@
 
 namespace mostar::server {
 namespace {
+
+// How long stopping the camera pipeline and deleting the DDS entities may take after SIGTERM
+// (normally well under 1 s; the stop must be complete within 2 s).
+constexpr Duration kDdsTeardownDeadline = std::chrono::milliseconds(1500);
 
 int Fail(int status, const std::string& message) {
   std::cerr << "robot_server: " << message << "\n";
@@ -196,10 +201,15 @@ int Run(int argc, char** argv) {
   }
   MOSTAR_LOG(INFO) << "robot_server stopping";
   service.Stopping("stopping");
-  pipeline.Stop();
-  controller.Stop();
-  controller_ptr = nullptr;
-  node.reset();  // no callback runs after this
+  controller.Stop();  // first: motors stopped and the e-stop latch recorded, whatever hangs next
+  {
+    // The DDS side (a camera write waiting for acknowledgements, entity deletion) can block
+    // inside Fast DDS 2.9; SIGTERM must still end the program within 2 s (exit status 4).
+    const ExitDeadline deadline(kDdsTeardownDeadline, 4, "robot_server", "DDS teardown");
+    pipeline.Stop();
+    controller_ptr = nullptr;
+    node.reset();  // no callback runs after this
+  }
   controller.SetRecorder(nullptr);
   if (recorder) {
     if (!recorder->Close(&error)) MOSTAR_LOG(ERROR) << "recording: " << error;
