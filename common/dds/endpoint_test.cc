@@ -237,7 +237,11 @@ TEST(EndpointTest, EveryCommandWriterIsHeardWithItsParticipant) {
                              });
   Writer<CommandType> writer_a(*pilot_a, "rt/test/cmd", Stream::kCommand);
   auto writer_b = std::make_unique<Writer<CommandType>>(*pilot_b, "rt/test/cmd", Stream::kCommand);
-  ASSERT_TRUE(WaitFor([&] { return reader.matched() == 2; }, std::chrono::seconds(10)));
+  // Both sides (matching is asymmetric; volatile samples written before a writer matched the
+  // reader never reach it).
+  ASSERT_TRUE(WaitFor(
+      [&] { return reader.matched() == 2 && writer_a.matched() == 1 && writer_b->matched() == 1; },
+      std::chrono::seconds(10)));
   VelocityCommand a{FromUnixNanos(1), 0, "pilot-a", 0.1, 0, true};
   VelocityCommand b{FromUnixNanos(1), 0, "pilot-b", 0.2, 0, true};
   for (int i = 0; i < 20; ++i) {
