@@ -245,11 +245,8 @@ int Run(int argc, char** argv) {
     if (max_frames > 0 && console.rendered_pairs() >= static_cast<uint64_t>(max_frames)) break;
     if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
   }
-  {
-    // Deleting the DDS entities can block inside Fast DDS 2.9; the client must still end
-    // within 2 s of SIGTERM (exit status 4, no report).
-    const ExitDeadline deadline(std::chrono::milliseconds(1500), 4, "operator_client",
-                                "DDS teardown");
+  {  // Fast DDS 2.9 can block here; end within 2 s of SIGTERM anyway (status 4, no report)
+    const ExitDeadline deadline(FromMilliseconds(1500), 4, "operator_client", "DDS teardown");
     commands.Stop();
     node.reset();  // no more callbacks into the recorder
   }
