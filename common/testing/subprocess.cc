@@ -1,12 +1,16 @@
 #include "common/testing/subprocess.h"
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -114,11 +118,38 @@ std::string ReadFile(const std::string& path) {
   return out.str();
 }
 
+namespace {
+
+std::mutex temp_dirs_mutex;
+std::vector<std::string>* temp_dirs = nullptr;  // made on first use, never destroyed
+
+// At exit: removes the directories MakeTempDir made when every test passed, else names them.
+void RemoveTempDirsIfPassed() {
+  const std::lock_guard<std::mutex> lock(temp_dirs_mutex);
+  const bool passed = ::testing::UnitTest::GetInstance()->Passed();
+  for (const std::string& dir : *temp_dirs) {
+    std::error_code ignored;
+    if (passed) {
+      std::filesystem::remove_all(dir, ignored);
+    } else {
+      std::fprintf(stderr, "kept for inspection: %s\n", dir.c_str());
+    }
+  }
+}
+
+}  // namespace
+
 std::string MakeTempDir(const std::string& prefix) {
   const char* base = std::getenv("TMPDIR");
   std::string pattern = std::string(base ? base : "/tmp") + "/" + prefix + "XXXXXX";
-  char* made = ::mkdtemp(pattern.data());
-  return made ? std::string(made) : std::string();
+  if (::mkdtemp(pattern.data()) == nullptr) return std::string();
+  const std::lock_guard<std::mutex> lock(temp_dirs_mutex);
+  if (temp_dirs == nullptr) {
+    temp_dirs = new std::vector<std::string>();
+    std::atexit(RemoveTempDirsIfPassed);
+  }
+  temp_dirs->push_back(pattern);
+  return pattern;
 }
 
 }  // namespace mostar::testing

@@ -42,7 +42,9 @@ class Subprocess {
 
 // Reads a whole file ("" when missing).
 std::string ReadFile(const std::string& path);
-// A fresh directory under the test temp dir.
+// A fresh directory `prefix` + six random characters under $TMPDIR (default /tmp); "" when it
+// cannot be made. When the test program ends normally with every test passed it is removed with
+// its contents; otherwise it is kept for inspection and its path printed on stderr.
 std::string MakeTempDir(const std::string& prefix);
 
 }  // namespace mostar::testing

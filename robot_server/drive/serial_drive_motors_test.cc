@@ -16,6 +16,7 @@
 #include <mutex>
 #include <thread>
 
+#include "common/testing/subprocess.h"
 #include "common/time/fake_clock.h"
 
 namespace mostar::drive {
@@ -168,9 +169,9 @@ bool WaitForLink(SerialDriveMotors* motors) {
 // The board's port is missing at start (a udev symlink not there yet), appears, vanishes
 // (unplugged) and comes back: the motors open it each time, and meanwhile say why they fail.
 TEST(SerialDriveMotorsTest, OpensThePortWhenItAppearsAndAgainAfterItVanishes) {
-  char dir[] = "/tmp/mostar_drive_port_XXXXXX";
-  ASSERT_NE(mkdtemp(dir), nullptr);
-  const std::string link = std::string(dir) + "/mostar-drive";
+  const std::string dir = testing::MakeTempDir("mostar_drive_port_");
+  ASSERT_FALSE(dir.empty());
+  const std::string link = dir + "/mostar-drive";
   std::string error;
   auto motors = SerialDriveMotors::Open(SystemClock::Instance(), OptionsFor(link), &error);
   ASSERT_NE(motors, nullptr) << error;
@@ -200,7 +201,6 @@ TEST(SerialDriveMotorsTest, OpensThePortWhenItAppearsAndAgainAfterItVanishes) {
   EXPECT_TRUE(WaitFor([&] { return replugged.last_set_velocity().has_value(); }));
   motors.reset();
   unlink(link.c_str());
-  rmdir(dir);
 }
 
 TEST(SerialDriveMotorsTest, TalksToTheBoardOverAPty) {
