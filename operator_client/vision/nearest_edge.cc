@@ -66,6 +66,8 @@ bool NearestEdgeOptions::IsValid(std::string* error) const {
              step_offset_px > 20) {
     why << "min_step_grey must be in [0, 255] and step_offset_px in [1, 20] (got " << min_step_grey
         << ", " << step_offset_px << ")";
+  } else if (!(min_crossing_angle_deg >= 0.0 && min_crossing_angle_deg <= 85.0)) {
+    why << "min_crossing_angle_deg must be in [0, 85] (got " << min_crossing_angle_deg << ")";
   } else if (bottom_margin_px < 0) {
     why << "bottom_margin_px must be >= 0 (got " << bottom_margin_px << ")";
   } else {
@@ -122,6 +124,11 @@ RayPixels TraceRayPixels(const math::CameraModel& camera, double azimuth_rad,
         pixel.previous_col = static_cast<int16_t>(last_col);
         pixel.previous_row = static_cast<int16_t>(last_row);
         pixel.walking_vertically = std::abs(dv) >= std::abs(du);
+        const double norm = std::hypot(du, dv);
+        if (norm > 0.0) {
+          pixel.direction_u = static_cast<float>(du / norm);
+          pixel.direction_v = static_cast<float>(dv / norm);
+        }
         pixel.enter_t_m = static_cast<float>(t);
         pixel.centre_t_m = static_cast<float>(t);
         pixel.metres_per_px = static_cast<float>(1.0 / std::max(speed, 1e-9));
@@ -155,7 +162,40 @@ int SobelL1(const cv::Mat& grey, int col, int row) {
   return std::abs(gx) + std::abs(gy);
 }
 
+// Sobel gradient of `grey` summed over the 3x3 neighbourhood of (col, row) (a smoothed 5x5
+// derivative, steadier in direction under sensor noise), borders replicated.
+Eigen::Vector2d SmoothedGradient(const cv::Mat& grey, int col, int row) {
+  const auto at = [&](int c, int r) {
+    return static_cast<int>(
+        grey.ptr<uint8_t>(std::clamp(r, 0, grey.rows - 1))[std::clamp(c, 0, grey.cols - 1)]);
+  };
+  // The 3x3 sum of 3x3 Sobel kernels is the outer product of [1 3 4 3 1] (smoothing) and
+  // [-1 -1 0 1 1] (derivative).
+  static constexpr int kSmooth[5] = {1, 3, 4, 3, 1};
+  static constexpr int kDerive[5] = {-1, -1, 0, 1, 1};
+  int gx = 0, gy = 0;
+  for (int j = 0; j < 5; ++j) {
+    for (int i = 0; i < 5; ++i) {
+      const int value = at(col + i - 2, row + j - 2);
+      gx += kSmooth[j] * kDerive[i] * value;
+      gy += kDerive[j] * kSmooth[i] * value;
+    }
+  }
+  return Eigen::Vector2d(gx, gy);
+}
+
 }  // namespace
+
+bool EdgeCrossesRay(const cv::Mat& grey, int col, int row, const Eigen::Vector2d& ray_direction,
+                    double min_crossing_angle_deg) {
+  if (min_crossing_angle_deg <= 0.0) return true;
+  const Eigen::Vector2d gradient = SmoothedGradient(grey, col, row);
+  const double magnitude = gradient.norm() * ray_direction.norm();
+  if (magnitude <= 0.0) return true;
+  // The edge is perpendicular to the gradient: sin(crossing angle) = |cos(gradient, ray)|.
+  return std::abs(gradient.dot(ray_direction)) >=
+         magnitude * std::sin(min_crossing_angle_deg * M_PI / 180.0);
+}
 
 Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
                             const NearestEdgeOptions& options, double laser_height_m,
@@ -235,9 +275,15 @@ Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
     if (!mean_grey(centre + near, centre + far, &after)) return true;
     return std::abs(after - before) >= options.min_step_grey;
   };
+  const auto crosses = [&](const RayPixels::Pixel& p, const Hit& hit) {
+    return grey.empty() ||
+           EdgeCrossesRay(grey, hit.col, hit.row, Eigen::Vector2d(p.direction_u, p.direction_v),
+                          options.min_crossing_angle_deg);
+  };
   for (size_t i = 0; i < pixels.size(); ++i) {
     Hit hit;
     if (!hit_at(pixels[i], &hit) || !is_step(i)) continue;
+    nep.along_ray = !crosses(pixels[i], hit);
     size_t best_index = i;
     if (options.base_search_m > 0.0 && !grey.empty()) {
       // Base refinement: the first edge is often the outer rim of the obstacle's contact shadow

@@ -54,6 +54,14 @@ struct NearestEdgeOptions {
   // image. 0 = off (the thesis).
   int min_step_grey = 0;
   int step_offset_px = 3;  // in [1, 20]
+  // Direction test, degrees; in [0, 85]. The edge through an edge pixel runs perpendicular to
+  // the image gradient there (Sobel over the pixel's 3x3 neighbourhood, stretched grey image).
+  // An obstacle's base runs across the rays. The silhouette of its vertical edges runs along
+  // them (vertical lines and floor rays both meet near the image of the point under the camera),
+  // and so do the sides of a box a ray passes beside. A NEP whose first edge pixel crosses the
+  // ray's image less steeply than this angle is marked Nep::along_ray. An edge with no gradient
+  // crosses. Needs the grey image. 0 = off (the thesis).
+  double min_crossing_angle_deg = 30.0;
 
   bool IsValid(std::string* error) const;
 };
@@ -74,6 +82,10 @@ struct Nep {
   // NESC's verdict (thesis 9.2): false when seen by one eye only or when the eyes disagree; such
   // a NEP is used only when it agrees with the laser. NED on one image (thesis 8) sets true.
   bool reliable = true;
+  // The edge runs along the ray (NearestEdgeOptions::min_crossing_angle_deg): the silhouette of
+  // something the ray passes beside or behind, not a base on this beam. It may agree with the
+  // laser or be further, but never makes a possible-obstacle dot. NESC: set when either eye's is.
+  bool along_ray = false;
 };
 
 // NED over one image: neps[i] belongs to beam i of the scan.
@@ -107,9 +119,11 @@ struct RayPixels {
     int16_t previous_col = -1;  // the pixel walked before (for diagonal steps), -1 = none
     int16_t previous_row = -1;
     bool walking_vertically = true;  // the image of the ray is steeper than 45 degrees here
-    float enter_t_m = 0.f;           // distance along the ray where the walk enters the pixel
-    float centre_t_m = 0.f;          // middle of the ray's crossing of the pixel
-    float metres_per_px = 0.f;       // floor distance per pixel of the ray's image here
+    float direction_u = 0.f;         // unit direction of the ray's image here, walking outwards
+    float direction_v = -1.f;
+    float enter_t_m = 0.f;      // distance along the ray where the walk enters the pixel
+    float centre_t_m = 0.f;     // middle of the ray's crossing of the pixel
+    float metres_per_px = 0.f;  // floor distance per pixel of the ray's image here
   };
   bool visible = false;
   double azimuth_rad = 0.0;
@@ -154,6 +168,13 @@ class NearestEdgeFinder {
   std::vector<RayPixels> rays_;
   int top_row_ = 0;
 };
+
+// The direction test of NearestEdgeOptions::min_crossing_angle_deg at pixel (col, row) of the
+// stretched grey image `grey` (CV_8UC1), for a ray whose image runs along `ray_direction` there
+// (any length > 0). True when the test is off, the gradient is zero, or the edge crosses the ray
+// at least that steeply.
+bool EdgeCrossesRay(const cv::Mat& grey, int col, int row, const Eigen::Vector2d& ray_direction,
+                    double min_crossing_angle_deg);
 
 // Floor point (laser frame) at `distance_m` from the robot base along `azimuth_rad`.
 Eigen::Vector3d FloorPointLaser(double azimuth_rad, double distance_m, double laser_height_m);

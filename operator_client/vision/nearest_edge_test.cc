@@ -43,6 +43,10 @@ TEST(NearestEdgeOptionsTest, RejectsBadValuesByName) {
   options.max_range_m = -1;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("max_range_m"), std::string::npos);
+  options = NearestEdgeOptions{};
+  options.min_crossing_angle_deg = 90.0;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("min_crossing_angle_deg"), std::string::npos);
 }
 
 TEST(NearestEdgeTest, FindsAHorizontalLineDrawnAtAKnownFloorDistance) {
@@ -282,6 +286,82 @@ TEST(NearestEdgeTest, StepTestSkipsEdgesWithNoFloorBeforeThem) {
   const Nep nep = FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey);
   ASSERT_TRUE(nep.found);
   EXPECT_EQ(nep.pixel.y(), base_row);
+}
+
+TEST(EdgeCrossesRayTest, MeasuresTheAngleBetweenTheEdgeAndTheRay) {
+  // A straight grey step through (320, 240) with the edge at `edge_deg` from the image's u axis.
+  const auto step_image = [](double edge_deg) {
+    cv::Mat grey(480, 640, CV_8UC1);
+    const double a = edge_deg * kPi / 180.0;
+    for (int r = 0; r < grey.rows; ++r) {
+      for (int c = 0; c < grey.cols; ++c) {
+        const double side = -(c - 320) * std::sin(a) + (r - 240) * std::cos(a);
+        grey.at<uint8_t>(r, c) = side > 0.25 ? 200 : 60;  // no pixel centre on the line
+      }
+    }
+    return grey;
+  };
+  const Eigen::Vector2d up(0.0, -1.0);  // a ray walking up the image
+  for (const double edge_deg : {0.0, 20.0, 45.0, 70.0, 90.0}) {
+    const cv::Mat grey = step_image(edge_deg);
+    const double crossing_deg = 90.0 - edge_deg;  // the edge against the vertical ray
+    EXPECT_EQ(EdgeCrossesRay(grey, 320, 240, up, crossing_deg - 8.0), true) << edge_deg;
+    if (crossing_deg + 8.0 <= 85.0) {
+      EXPECT_EQ(EdgeCrossesRay(grey, 320, 240, up, crossing_deg + 8.0), false) << edge_deg;
+    }
+    EXPECT_TRUE(EdgeCrossesRay(grey, 320, 240, up, 0.0)) << "the test off";
+  }
+  // No gradient: nothing to judge, the edge crosses.
+  EXPECT_TRUE(EdgeCrossesRay(cv::Mat(480, 640, CV_8UC1, cv::Scalar(90)), 320, 240, up, 60.0));
+}
+
+// A ray walking up the image meets the silhouette of an obstacle standing beside it (a vertical
+// grey step, along the ray) before a base further on (across the ray). NED stops at the
+// silhouette as the thesis does; the direction test marks that NEP as along the ray.
+TEST(NearestEdgeTest, DirectionTestMarksASilhouetteAlongTheRay) {
+  const math::CameraModel camera(Calibration(), math::kMonoCamera);
+  NearestEdgeOptions options;
+  options.base_search_m = 0.0;
+  const RayPixels ray = TraceRayPixels(camera, 0.0, options);
+  ASSERT_GT(ray.pixels.size(), 40u);
+  // The silhouette: a vertical grey step along the ray's pixel column from the ray's 20th pixel
+  // up to the base, dark on its right (the obstacle's side face beside the ray).
+  const RayPixels::Pixel& silhouette = ray.pixels[20];
+  ASSERT_LT(std::abs(silhouette.direction_u), 0.05f);
+  ASSERT_LT(silhouette.direction_v, -0.99f);
+  const int base_row =
+      static_cast<int>(std::lround(camera.Project(FloorPointLaser(0, 3.0, 0.40))->y()));
+  ASSERT_LT(base_row + 5, silhouette.row);
+  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(200));
+  grey.rowRange(0, base_row + 1).setTo(60);  // an obstacle across the ray at 3 m
+  const cv::Rect side(silhouette.col, 0, 640 - silhouette.col, 480);
+  grey(side).setTo(60);
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  const cv::Rect side_edge(silhouette.col, base_row + 1, 1, silhouette.row - base_row);
+  edges(side_edge).setTo(255);
+  edges.row(base_row).setTo(255);
+
+  options.min_crossing_angle_deg = 0.0;
+  const Nep thesis = FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey);
+  ASSERT_TRUE(thesis.found);
+  EXPECT_EQ(thesis.pixel.y(), silhouette.row);
+  EXPECT_FALSE(thesis.along_ray);
+  options.min_crossing_angle_deg = 30.0;
+  const Nep marked = FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey);
+  ASSERT_TRUE(marked.found);
+  EXPECT_EQ(marked.pixel.y(), silhouette.row);
+  EXPECT_TRUE(marked.along_ray);
+  EXPECT_FALSE(FindNearestEdgeOnPixels(edges, ray, options, 0.40, cv::Mat()).along_ray)
+      << "no grey image, no direction test";
+  // Without the silhouette the base across the ray is found with the test on.
+  edges(side_edge).setTo(0);
+  grey(side).setTo(200);
+  grey.rowRange(0, base_row + 1).setTo(60);
+  const Nep base = FindNearestEdgeOnPixels(edges, ray, options, 0.40, grey);
+  ASSERT_TRUE(base.found);
+  EXPECT_FALSE(base.along_ray);
+  EXPECT_EQ(base.pixel.y(), base_row);
+  EXPECT_NEAR(base.distance_m, 3.0, 0.1);
 }
 
 TEST(NearestEdgeTest, FinderReportsTheHighestRowItsRaysRead) {

@@ -109,6 +109,9 @@ bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
     if (relation != NepRelation::kNone && relation != NepRelation::kAgrees && !nep.reliable) {
       relation = NepRelation::kNone;  // thesis 9.2: unreliable NEPs never contradict the laser
       ++out->unreliable_ignored;
+    } else if (relation == NepRelation::kNearer && nep.along_ray) {
+      relation = NepRelation::kNone;  // a silhouette, not a base on this beam: no dot
+      ++out->along_ray_ignored;
     }
     if (relation == NepRelation::kNearer && options.neighbour_beams > 0) {
       const size_t k = static_cast<size_t>(options.neighbour_beams);

@@ -81,6 +81,7 @@ struct NepClassification {
   int neighbour = 0;           // NepRelation::kNeighbour
   int isolated = 0;            // NepRelation::kIsolated
   int unreliable_ignored = 0;  // unreliable NEPs that did not agree with the laser
+  int along_ray_ignored = 0;   // nearer NEPs along their ray (silhouettes, Nep::along_ray)
   int confirmed_outliers = 0;
   int potential_outliers_kept = 0;  // potential outliers whose NEP agreed or that had none
 };

@@ -123,6 +123,26 @@ TEST(NepClassifierTest, UnreliableNepCountsOnlyWhenItAgrees) {
   EXPECT_EQ(out.unreliable_ignored, 2);
 }
 
+// A silhouette (an edge along its ray) is no base on its beam: it still agrees with the laser
+// or lies beyond it, but never makes a dot nor confirms a potential outlier.
+TEST(NepClassifierTest, NepAlongItsRayMakesNoDot) {
+  const LaserScan scan = ScanOf({3.0f, 3.0f, 3.0f, 3.0f});
+  std::vector<Nep> neps = {NepAt(scan, 0, 1.0), NepAt(scan, 1, 3.05), NepAt(scan, 2, 1.0),
+                           NepAt(scan, 3, 4.0)};
+  for (Nep& nep : neps) nep.along_ray = true;
+  const NepClassification out = Classify(scan, neps, {false, false, true, false});
+  EXPECT_EQ(out.beams[0].relation, NepRelation::kNone);
+  EXPECT_EQ(out.beams[1].relation, NepRelation::kAgrees);
+  EXPECT_FLOAT_EQ(out.corrected_scan.ranges_m[1], 3.05f);
+  EXPECT_FALSE(out.beams[2].confirmed_outlier);
+  EXPECT_EQ(out.beams[3].relation, NepRelation::kFurther);
+  EXPECT_TRUE(out.possible_obstacles.empty());
+  EXPECT_EQ(out.along_ray_ignored, 2);
+  // The same NEPs across their rays: two dots.
+  for (Nep& nep : neps) nep.along_ray = false;
+  EXPECT_EQ(Classify(scan, neps, {false, false, true, false}).possible_obstacles.size(), 2u);
+}
+
 LaserScan FineScan(std::vector<float> ranges_m) {
   LaserScan scan = ScanOf(std::move(ranges_m));
   scan.angle_min_rad = -0.05f;

@@ -108,6 +108,7 @@ bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& sca
         selected.distance_m = 0.5 * (l.distance_m + r.distance_m);
         selected.floor_point_laser = 0.5 * (l.floor_point_laser + r.floor_point_laser);
         selected.reliable = true;
+        selected.along_ray = l.along_ray || r.along_ray;
       } else {
         out->kinds[i] = StereoNepKind::kDisagree;
         ++out->disagree;

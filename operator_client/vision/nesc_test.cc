@@ -89,6 +89,21 @@ TEST(NescTest, RealEdgeInBothEyesBecomesOneReliableNepAtTheMidpoint) {
   EXPECT_NEAR(out.possible_obstacles[0].distance_m, 1.5, 1e-12);
 }
 
+// One eye's NEP runs along its ray (a silhouette), the other's crosses it: the fused NEP is a
+// silhouette and makes no dot.
+TEST(NescTest, FusedNepIsAlongTheRayWhenEitherEyesIs) {
+  const Rig rig;
+  const LaserScan scan = ScanOf({3.0f, 3.0f, 3.0f});
+  Nep left = NepAt(scan, 1, 1.48, rig.left);
+  left.along_ray = true;
+  const NescResult nesc = RunNescOn(
+      Ned({Nep{}, left, Nep{}}), Ned({Nep{}, NepAt(scan, 1, 1.52, rig.right), Nep{}}), scan, rig);
+  EXPECT_EQ(nesc.kinds[1], StereoNepKind::kMatched);
+  EXPECT_TRUE(nesc.selected[1].reliable);
+  EXPECT_TRUE(nesc.selected[1].along_ray);
+  EXPECT_TRUE(Classify(scan, nesc).possible_obstacles.empty());
+}
+
 TEST(NescTest, ReliableNepCorrectsTheOverlay) {
   const Rig rig;
   const LaserScan scan = ScanOf({2.0f});

@@ -38,6 +38,7 @@ proto::VisionConfig ToProto(const VisionOptions& options) {
   ned->set_base_search_m(options.nearest_edge.base_search_m);
   ned->set_min_step_grey(options.nearest_edge.min_step_grey);
   ned->set_step_offset_px(options.nearest_edge.step_offset_px);
+  ned->set_min_crossing_angle_deg(options.nearest_edge.min_crossing_angle_deg);
   config.set_edge_threshold_m(options.classifier.edge_threshold_m);
   config.set_stereo_threshold_m(options.nesc.stereo_threshold_m);
   config.set_stereo(options.stereo);
@@ -65,6 +66,7 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
   options.nearest_edge.base_search_m = ned.base_search_m();
   options.nearest_edge.min_step_grey = ned.min_step_grey();
   options.nearest_edge.step_offset_px = ned.step_offset_px();
+  options.nearest_edge.min_crossing_angle_deg = ned.min_crossing_angle_deg();
   options.classifier.edge_threshold_m = config.edge_threshold_m();
   options.nesc.stereo_threshold_m = config.has_stereo_threshold_m()
                                         ? config.stereo_threshold_m()

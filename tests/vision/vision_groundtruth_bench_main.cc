@@ -104,6 +104,9 @@ int Run(int argc, char** argv) {
                  "step test stay unless the file sets them");
   app.add_flag("--below_laser_only", below_laser_only,
                "positives: only bases below the scan plane (not beams without an echo)");
+  bool list_dots = false;
+  app.add_flag("--list_dots", list_dots,
+               "list every stereo dot (TP/FP) and every missed positive on stderr");
   CLI11_PARSE(app, argc, argv);
   client::ClientConfig client;
   if (!client_config.empty()) {
@@ -234,6 +237,36 @@ int Run(int argc, char** argv) {
       };
       score(mono, &c.mono_dots, &c.mono_true, &c.mono_found);
       score(result.classification, &c.stereo_dots, &c.stereo_true, &c.stereo_found);
+      if (list_dots) {
+        // Every stereo dot (TP within kMatchToleranceM of a positive's base, else FP) and every
+        // positive without one (MISS), with what NED found on that beam in each eye.
+        for (const PossibleObstacle& dot : result.classification.possible_obstacles) {
+          const size_t i = static_cast<size_t>(dot.beam);
+          const bool good = positive[i] && std::abs(dot.distance_m - base_m[i]) <= kMatchToleranceM;
+          const auto px = true_right->Project(dot.floor_point_laser);
+          std::fprintf(stderr,
+                       "%s frame %d beam %zu %s dot %.2f m base %.2f m laser %.2f m positive %d "
+                       "pixel %.0f,%.0f\n",
+                       scene_case.name.c_str(), frame, i, good ? "TP" : "FP", dot.distance_m,
+                       base_m[i], laser_truth.true_ranges_m[i], positive[i] ? 1 : 0,
+                       px ? px->x() : -1.0, px ? px->y() : -1.0);
+        }
+        for (size_t i = 0; i < beams; ++i) {
+          if (!positive[i]) continue;
+          bool hit = false;
+          for (const PossibleObstacle& dot : result.classification.possible_obstacles) {
+            hit |= static_cast<size_t>(dot.beam) == i &&
+                   std::abs(dot.distance_m - base_m[i]) <= kMatchToleranceM;
+          }
+          if (hit) continue;
+          std::fprintf(stderr,
+                       "%s frame %d beam %zu MISS base %.2f m laser %.2f m left NEP %.2f m "
+                       "right NEP %.2f m (nan = none)\n",
+                       scene_case.name.c_str(), frame, i, base_m[i], laser_truth.true_ranges_m[i],
+                       result.left_ned.neps[i].found ? result.left_ned.neps[i].distance_m : NAN,
+                       result.right_ned.neps[i].found ? result.right_ned.neps[i].distance_m : NAN);
+        }
+      }
 
       // Stray NEPs: more than 6 px from any obstacle base line in their own image (contact
       // shadows put true NEPs up to a few pixels below the base).
@@ -247,8 +280,11 @@ int Run(int argc, char** argv) {
           const bool stray = distance->at<float>(static_cast<int>(nep.pixel.y()),
                                                  static_cast<int>(nep.pixel.x())) > 6.0f;
           const Nep& used = result.selected[i];
+          // Kept by NESC: used, whatever the direction test then made of it.
           const bool survived =
-              result.classification.beams[i].relation != NepRelation::kNone && used.found &&
+              (result.classification.beams[i].relation != NepRelation::kNone ||
+               (used.reliable && used.along_ray)) &&
+              used.found &&
               std::abs(used.distance_m - nep.distance_m) <= options.nesc.stereo_threshold_m;
           (stray ? c.stray : c.real) += 1;
           (stray ? c.stray_survived : c.real_survived) += survived ? 1 : 0;
