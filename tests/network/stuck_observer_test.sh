@@ -51,13 +51,25 @@ ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile
 server_pid=$!; pids+=("$server_pid")
 sleep 1
 for who in a b; do
-  timeout $((run_s + 30)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
-    --dds-profile "$work/wan.xml" --insecure --id "observer_${who}_$$" --duration-s "$run_s" --no-ping \
+  # The probes' duration leaves room for the wait for video below; they are stopped (SIGTERM:
+  # they print their counters) 9 s after B is resumed.
+  timeout $((run_s + 60)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
+    --dds-profile "$work/wan.xml" --insecure --id "observer_${who}_$$" --duration-s $((run_s + 30)) --no-ping \
     --samples "$work/$who.csv" > "$work/$who.out" 2>&1 &
   pids+=($!)
 done
 probe_a=${pids[1]}; probe_b=${pids[2]}
 sleep "$freeze_after_s"
+# Freeze B only once both observers receive video (net_probe writes its samples file in blocks,
+# so a line shows up within about a second): discovery over TCP can take longer than
+# freeze_after_s on a busy machine, and a B frozen before its video readers matched is never
+# sent the video that would fill its connection.
+for who in a b; do
+  for _ in $(seq 300); do grep -q '^left,' "$work/$who.csv" 2>/dev/null && break; sleep 0.1; done
+  grep -q '^left,' "$work/$who.csv" 2>/dev/null ||
+    { echo "FAIL: observer $who received no video within $((freeze_after_s + 30)) s"; exit 1; }
+done
+echo "stuck_observer_test: both observers receive video; freezing B"
 pkill -STOP -f -- "--id observer_b_$$" || true
 frozen_ns=$(date +%s%N)
 if [ "$stall_exit" = 1 ]; then
@@ -70,14 +82,19 @@ if [ "$stall_exit" = 1 ]; then
   check "the robot exited with status 3 during the freeze" '[ "$server_exit" = 3 ]'
   check "it said why" 'grep -q "DDS write has been blocked" "$work/server.log"'
   pkill -CONT -f -- "--id observer_b_$$" || true
-  [ "$failures" -eq 0 ] || { echo "--- server log"; tail -20 "$work/server.log"; exit 1; }
+  if [ "$failures" -ne 0 ]; then
+    echo "left frames received: A $(grep -c '^left,' "$work/a.csv"), B $(grep -c '^left,' "$work/b.csv") (B's file as of its freeze, up to one block short)"
+    echo "--- server log"; tail -20 "$work/server.log"; exit 1
+  fi
   echo "stuck_observer_test --stall-exit: all checks passed"
   exit 0
 fi
 sleep "$freeze_s"
 resumed_ns=$(date +%s%N)
 pkill -CONT -f -- "--id observer_b_$$" || true
+sleep 9
 set +e
+kill -TERM "$probe_a" "$probe_b" 2>/dev/null
 wait "$probe_a"; wait "$probe_b"
 kill -TERM "$server_pid"
 for _ in $(seq 150); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.1; done
