@@ -195,6 +195,11 @@ int Run(int argc, char** argv) {
       std::fflush(nullptr);
       std::_Exit(3);  // an orderly teardown would wait on the blocked write
     }
+    if (const Duration took = clock->SteadyNow() - now; took > 5 * settings.control_period) {
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+          << "control cycle took " << ToSeconds(took) * 1000 << " ms (period "
+          << ToSeconds(settings.control_period) * 1000 << " ms): the robot reacted late";
+    }
     if (TakeSignalRequest(SIGUSR2)) controller.ReleaseEstopLocally();
     if (flags.duration_s > 0 && now - start > FromSeconds(flags.duration_s)) break;
     std::this_thread::sleep_until(next_cycle);

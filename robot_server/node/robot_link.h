@@ -1,6 +1,7 @@
 // What the robot's control loop needs of its network side: RobotNode implements it on DDS,
 // tests implement it in memory. Publish calls never block the caller (RobotNode queues them in
-// its outbox); every method is thread-safe.
+// its outbox), except PublishImage, which the replay's own thread calls; every method is
+// thread-safe.
 #pragma once
 
 #include <optional>

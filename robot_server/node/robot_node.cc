@@ -229,7 +229,10 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
 }
 
 void RobotNode::PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) {
-  (eye == Eye::kLeft ? left_info_ : right_info_)->Write(dds::ToIdl(info));
+  // Through the outbox: the control loop re-publishes the intrinsics with the lease.
+  Post([writer = (eye == Eye::kLeft ? left_info_ : right_info_).get(), m = dds::ToIdl(info)] {
+    writer->Write(m);
+  });
 }
 
 void RobotNode::PublishImage(Eye eye, const CompressedImage& image) {
