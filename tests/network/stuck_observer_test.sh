@@ -50,25 +50,37 @@ ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" --dds-profile
   --insecure --config "$work/server.pbtxt" --source test_pattern > "$work/server.log" 2>&1 &
 server_pid=$!; pids+=("$server_pid")
 sleep 1
-for who in a b; do
-  # The probes' duration leaves room for the wait for video below; they are stopped (SIGTERM:
-  # they print their counters) 9 s after B is resumed.
-  timeout $((run_s + 60)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
-    --dds-profile "$work/wan.xml" --insecure --id "observer_${who}_$$" --duration-s $((run_s + 30)) --no-ping \
-    --samples "$work/$who.csv" > "$work/$who.out" 2>&1 &
-  pids+=($!)
-done
-probe_a=${pids[1]}; probe_b=${pids[2]}
+# The probes' duration leaves room for the wait for video below; they are stopped (SIGTERM: they
+# print their counters) 9 s after B is resumed.
+declare -A probe
+start_probe() {
+  timeout $((run_s + 90)) ip netns exec "${prefix}_operator" "$net_probe" --domain "$domain" \
+    --dds-profile "$work/wan.xml" --insecure --id "observer_${1}_$$" --duration-s $((run_s + 60)) \
+    --no-ping --samples "$work/$1.csv" > "$work/$1.out" 2>&1 &
+  probe[$1]=$!; pids+=($!)
+}
+start_probe a
+start_probe b
 sleep "$freeze_after_s"
 # Freeze B only once both observers receive video (net_probe writes its samples file in blocks,
-# so a line shows up within about a second): discovery over TCP can take longer than
-# freeze_after_s on a busy machine, and a B frozen before its video readers matched is never
-# sent the video that would fill its connection.
+# so a line shows up within about a second). A B frozen before its video readers matched is never
+# sent the video that would fill its connection. In about one run in four, one observer's
+# connection never delivers anything: Fast DDS 2.9's TCP start-up defect (docs/networking.md,
+# known limits; network_wan_tcp* are its registered known failures). That observer is restarted,
+# as an operator would reconnect, at most twice; the defect is not what this test checks.
 for who in a b; do
-  for _ in $(seq 300); do grep -q '^left,' "$work/$who.csv" 2>/dev/null && break; sleep 0.1; done
-  grep -q '^left,' "$work/$who.csv" 2>/dev/null ||
-    { echo "FAIL: observer $who received no video within $((freeze_after_s + 30)) s"; exit 1; }
+  for attempt in 1 2 3; do
+    for _ in $(seq 150); do grep -q '^left,' "$work/$who.csv" 2>/dev/null && break; sleep 0.1; done
+    grep -q '^left,' "$work/$who.csv" 2>/dev/null && break
+    echo "stuck_observer_test: observer $who received no video within 15 s (attempt $attempt," \
+      "Fast DDS 2.9 TCP start-up defect)"
+    [ "$attempt" -lt 3 ] || { echo "FAIL: observer $who received no video in 3 attempts"; exit 1; }
+    kill -TERM "${probe[$who]}" 2>/dev/null || true
+    wait "${probe[$who]}" 2>/dev/null || true
+    start_probe "$who"
+  done
 done
+probe_a=${probe[a]}; probe_b=${probe[b]}
 echo "stuck_observer_test: both observers receive video; freezing B"
 pkill -STOP -f -- "--id observer_b_$$" || true
 frozen_ns=$(date +%s%N)
