@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
@@ -48,12 +49,26 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
   const std::string recording = dir_ + "/session.mostar";
   std::string error;
   {
+    // Recorded until the laser has streamed 20 scans (its start, with the baud-rate switch, took
+    // from 1 s to more than 6 s here) and for at least 6 s; bounded by 60 s.
     Subprocess recorder;
     ASSERT_TRUE(recorder.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
                                 Source("deploy/config/server_sim.pbtxt"), "--record", recording,
-                                "--duration", "6", "--trace", dir_ + "/recorded.csv"},
+                                "--trace", dir_ + "/recorded.csv"},
                                dir_ + "/record.log", &error))
         << error;
+    const auto started = std::chrono::steady_clock::now();
+    const auto elapsed = [&] { return std::chrono::steady_clock::now() - started; };
+    const auto scans_seen = [&] {
+      size_t n = 0;
+      for (const auto& t : ReadTrace(dir_ + "/recorded.csv")) n += t.topic == "scan";
+      return n;
+    };
+    while (elapsed() < std::chrono::seconds(60) &&
+           (elapsed() < std::chrono::seconds(6) || scans_seen() < 20)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    recorder.Signal(SIGTERM);
     const auto code = recorder.Wait(std::chrono::seconds(60));
     ASSERT_TRUE(code.has_value());
     ASSERT_EQ(*code, 0) << testing::ReadFile(dir_ + "/record.log");
@@ -142,12 +157,31 @@ TEST_F(RecordReplayTest, RecordedSimulatorSessionReplaysToAClient) {
     EXPECT_LE(traced, 40u);
   }
 
-  // A truncated copy replays up to the damage and says where it is.
+  // A truncated copy replays up to the damage and says where it is. It is cut in the middle of
+  // the record after the recording's middle scan: the laser may start streaming late in the 6 s
+  // (its baud-rate switch took 3.4 s on a busy machine), so half of the bytes can hold no scan.
+  uint64_t cut = 0;
+  {
+    std::unique_ptr<record::RecordingReader> reader =
+        record::RecordingReader::Open(recording, &error);
+    ASSERT_NE(reader, nullptr) << error;
+    std::vector<record::RecordedMessage> messages;
+    for (record::RecordedMessage m; reader->Next(&m);) messages.push_back(m);
+    std::vector<size_t> scans_at;
+    for (size_t i = 0; i < messages.size(); ++i) {
+      if (messages[i].kind() == record::RecordKind::kScan) scans_at.push_back(i);
+    }
+    ASSERT_GE(scans_at.size(), 2u);
+    const size_t after_middle_scan = scans_at[scans_at.size() / 2 - 1] + 1;
+    ASSERT_LT(after_middle_scan, messages.size());
+    const record::RecordedMessage& next = messages[after_middle_scan];
+    cut = next.offset + next.size_bytes / 2;
+  }
   const std::string data = testing::ReadFile(recording);
   const std::string truncated = dir_ + "/truncated.mostar";
   {
     std::ofstream out(truncated, std::ios::binary);
-    out.write(data.data(), static_cast<std::streamsize>(data.size() / 2));
+    out.write(data.data(), static_cast<std::streamsize>(cut));
   }
   Subprocess damaged;
   ASSERT_TRUE(damaged.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--replay",
