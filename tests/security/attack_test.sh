@@ -83,7 +83,7 @@ run() {
     --claim bob --robot-pid "$robot_pid" "$@" > "$work/$mode.attacks" 2> "$work/$mode.attacker.err" \
     || status=$?
   cat "$work/$mode.attacks"
-  [ "$status" -eq 0 ] || { echo "FAIL: attacker exited with $status ($mode)"; tail -20 "$work/$mode.attacker.err"; }
+  [ "$status" -eq 0 ] || { echo "FAIL: attacker exited with $status ($mode)"; grep -v -e SECURITY -e "-> Function" "$work/$mode.attacker.err" | tail -40; }
   if kill -0 "$robot_pid" 2>/dev/null; then echo "$mode: robot_server alive at the end" > "$work/$mode.alive"; fi
   kill "$alice_pid" 2>/dev/null || true
   wait "$alice_pid" 2>/dev/null || true

@@ -29,6 +29,7 @@
 #include <exception>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -232,13 +233,51 @@ std::vector<uint8_t> ReadFileBytes(const std::string& path) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 
+// Prints on stderr, with the seconds since this process started, what one participant
+// discovers and authenticates: the evidence when the witness hears nothing from the robot.
+class DiscoveryLog : public fdds::DomainParticipantListener {
+ public:
+  explicit DiscoveryLog(std::string label) : label_(std::move(label)) {}
+  void on_participant_discovery(fdds::DomainParticipant*,
+                                rtps::ParticipantDiscoveryInfo&& info) override {
+    static const char* const kStatus[] = {"discovered", "changed", "removed", "dropped"};
+    const int status = static_cast<int>(info.status);
+    Print(std::string(status >= 0 && status < 4 ? kStatus[status] : "?") + " '" +
+              info.info.m_participantName.to_string() + "'",
+          info.info.m_guid);
+  }
+#if HAVE_SECURITY
+  void onParticipantAuthentication(fdds::DomainParticipant*,
+                                   rtps::ParticipantAuthenticationInfo&& info) override {
+    Print(info.status == rtps::ParticipantAuthenticationInfo::AUTHORIZED_PARTICIPANT
+              ? "authorized"
+              : "unauthorized",
+          info.guid);
+  }
+#endif
+
+ private:
+  void Print(const std::string& what, const rtps::GUID_t& guid) {
+    static const Clock::time_point start = Clock::now();
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(3)
+         << "attacker: " << std::chrono::duration<double>(Clock::now() - start).count() << " s "
+         << label_ << ": " << what << " " << guid.guidPrefix << "\n";
+    std::cerr << line.str();
+  }
+  std::string label_;
+};
+
 // One participant with its topics, writers and readers; everything is deleted with it.
 class Peer {
  public:
   // `cert` empty: no DDS Security at all. Otherwise the files NAME.* of `pki`; `announce`
-  // puts the certificate into USER_DATA the way mostar participants do.
+  // puts the certificate into USER_DATA the way mostar participants do. `log` (may be null,
+  // outlives the peer) hears the participant's discovery and authentication only: its status
+  // mask is none, else Fast DDS would hand the readers' data to its on_data_on_readers.
   static std::unique_ptr<Peer> Create(int domain, const std::string& label, const std::string& pki,
-                                      const std::string& cert, bool announce) {
+                                      const std::string& cert, bool announce,
+                                      fdds::DomainParticipantListener* log = nullptr) {
     fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
     qos.name(label);
     qos.transport().use_builtin_transports = false;
@@ -266,8 +305,8 @@ class Peer {
         qos.user_data().data_vec(data);
       }
     }
-    auto* participant =
-        fdds::DomainParticipantFactory::get_instance()->create_participant(domain, qos);
+    auto* participant = fdds::DomainParticipantFactory::get_instance()->create_participant(
+        domain, qos, log, fdds::StatusMask::none());
     if (participant == nullptr) return nullptr;
     return std::unique_ptr<Peer>(new Peer(participant, label, cert));
   }
@@ -303,6 +342,16 @@ class Peer {
     readers_.push_back(reader);
     listeners_.push_back(std::move(listener));
     return true;
+  }
+  // How many writers the reader of `topic` matched; -1 when this peer does not read it.
+  int MatchedWriters(const std::string& topic) const {
+    for (fdds::DataReader* reader : readers_) {
+      if (reader->get_topicdescription()->get_name() != topic) continue;
+      fdds::SubscriptionMatchedStatus status;
+      reader->get_subscription_matched_status(status);
+      return status.current_count;
+    }
+    return -1;
   }
   // Stops reading (before this process writes samples its own readers cannot decode).
   void DeleteReaders() {
@@ -503,7 +552,7 @@ class Suite {
   int Run() {
     const bool secure = !options_.pki.empty();
     witness_peer_ = Peer::Create(options_.domain, "witness", options_.pki,
-                                 secure ? options_.witness_cert : "", false);
+                                 secure ? options_.witness_cert : "", false, &witness_log_);
     if (!witness_peer_ || !witness_.Start(witness_peer_.get())) {
       std::cerr << "attacker: the witness participant could not be made\n";
       return 1;
@@ -543,7 +592,9 @@ class Suite {
     const auto deadline = Clock::now() + 30s;
     while (witness_.Healths() == 0 && Clock::now() < deadline) std::this_thread::sleep_for(100ms);
     if (witness_.Healths() == 0) {
-      std::cerr << "attacker: the witness hears no health from the robot\n";
+      std::cerr << "attacker: the witness hears no health from the robot (its health reader "
+                << "matched " << witness_peer_->MatchedWriters(kHealth) << " writers, its lease "
+                << "reader " << witness_peer_->MatchedWriters(kLease) << ")\n";
       return 1;
     }
     if (!WaitForHolder(options_.victim, 20s)) {
@@ -1066,6 +1117,7 @@ class Suite {
   }
 
   Options options_;
+  DiscoveryLog witness_log_{"witness"};  // declared before the peer it outlives
   std::unique_ptr<Peer> witness_peer_;
   Witness witness_;
   std::vector<Attacker> attackers_;
