@@ -1,11 +1,38 @@
 #include "operator_client/client_options.h"
 
+#include <cmath>
+
 #include "common/config/config_paths.h"
 #include "common/identity/client_id.h"
 #include "common/math/calibration_io.h"
 #include "operator_client/render/display_mode.h"
 
 namespace mostar::client {
+namespace {
+
+// The self-calibration keys over the defaults of ConsoleSelfCalibration::Options.
+bool SelfCalibrationFromConfig(const SelfCalibrationConfig& config,
+                               ui::ConsoleSelfCalibration::Options* options, std::string* error) {
+  options->enabled = config.enabled();
+  options->window_points = static_cast<size_t>(config.window_points());
+  options->window_age = FromSeconds(config.window_age_s());
+  options->fit_period = FromSeconds(config.fit_period_s());
+  options->fit.free = {config.fit_focal(),    config.fit_camera_x(), config.fit_camera_y(),
+                       config.fit_camera_z(), config.fit_tilt(),     config.fit_pan(),
+                       config.fit_roll()};
+  options->fit.loss_px = config.loss_px();
+  options->fit.inlier_px = config.inlier_px();
+  options->fit.min_points = static_cast<size_t>(config.min_points());
+  options->correspondences.max_range_m = config.max_range_m();
+  options->correspondences.min_incidence_rad = config.min_incidence_deg() * M_PI / 180.0;
+  if (!options->IsValid(error)) {
+    *error = "self_calibration: " + *error;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& config_dir,
                               ui::ConsoleOptions* options, std::string* error) {
@@ -46,6 +73,9 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
   options->vision = vision::FromProto(config.vision());
   if (!options->vision.IsValid(error)) {
     *error = "vision: " + *error;
+    return false;
+  }
+  if (!SelfCalibrationFromConfig(config.self_calibration(), &options->self_calibration, error)) {
     return false;
   }
   options->drive.max_linear_mps = config.drive().max_linear_mps();

@@ -47,6 +47,64 @@ TEST(ClientOptionsTest, ConfigValuesReachTheConsole) {
   EXPECT_DOUBLE_EQ(options.drive.max_linear_mps, 0.25);
 }
 
+TEST(ClientOptionsTest, SelfCalibrationKeysReachTheConsole) {
+  ClientConfig config;
+  ui::ConsoleOptions defaults;
+  std::string error;
+  ASSERT_TRUE(ConsoleOptionsFromConfig(config, "", &defaults, &error)) << error;
+  const ui::ConsoleSelfCalibration::Options built_in;
+  EXPECT_TRUE(defaults.self_calibration.enabled);
+  EXPECT_EQ(defaults.self_calibration.window_points, built_in.window_points);
+  EXPECT_EQ(defaults.self_calibration.window_age, built_in.window_age);
+  EXPECT_EQ(defaults.self_calibration.fit_period, built_in.fit_period);
+  EXPECT_EQ(defaults.self_calibration.fit.free, built_in.fit.free) << "x, z and roll held";
+  EXPECT_EQ(defaults.self_calibration.fit.min_points, built_in.fit.min_points);
+  EXPECT_DOUBLE_EQ(defaults.self_calibration.fit.inlier_px, built_in.fit.inlier_px);
+  EXPECT_NEAR(defaults.self_calibration.correspondences.min_incidence_rad,
+              built_in.correspondences.min_incidence_rad, 1e-12);
+
+  SelfCalibrationConfig* self = config.mutable_self_calibration();
+  self->set_enabled(false);
+  self->set_window_points(500);
+  self->set_window_age_s(20);
+  self->set_fit_period_s(0.5);
+  self->set_fit_roll(true);
+  self->set_fit_pan(false);
+  self->set_loss_px(2.0);
+  self->set_inlier_px(4.0);
+  self->set_min_points(40);
+  self->set_max_range_m(4.0);
+  self->set_min_incidence_deg(30);
+  ui::ConsoleOptions options;
+  ASSERT_TRUE(ConsoleOptionsFromConfig(config, "", &options, &error)) << error;
+  const ui::ConsoleSelfCalibration::Options& o = options.self_calibration;
+  EXPECT_FALSE(o.enabled);
+  EXPECT_EQ(o.window_points, 500u);
+  EXPECT_EQ(o.window_age, std::chrono::seconds(20));
+  EXPECT_EQ(o.fit_period, std::chrono::milliseconds(500));
+  EXPECT_TRUE(o.fit.free[calibration::kRoll]);
+  EXPECT_FALSE(o.fit.free[calibration::kPan]);
+  EXPECT_TRUE(o.fit.free[calibration::kTilt]);
+  EXPECT_DOUBLE_EQ(o.fit.loss_px, 2.0);
+  EXPECT_DOUBLE_EQ(o.fit.inlier_px, 4.0);
+  EXPECT_EQ(o.fit.min_points, 40u);
+  EXPECT_DOUBLE_EQ(o.correspondences.max_range_m, 4.0);
+  EXPECT_NEAR(o.correspondences.min_incidence_rad, M_PI / 6, 1e-12);
+}
+
+TEST(ClientOptionsTest, ASelfCalibrationWithNothingFreeIsRefused) {
+  ClientConfig config;
+  SelfCalibrationConfig* self = config.mutable_self_calibration();
+  for (auto set : {&SelfCalibrationConfig::set_fit_focal, &SelfCalibrationConfig::set_fit_camera_y,
+                   &SelfCalibrationConfig::set_fit_tilt, &SelfCalibrationConfig::set_fit_pan}) {
+    (self->*set)(false);
+  }
+  ui::ConsoleOptions options;
+  std::string error;
+  EXPECT_FALSE(ConsoleOptionsFromConfig(config, "", &options, &error));
+  EXPECT_EQ(error, "self_calibration: fit: no parameter is free");
+}
+
 TEST(ClientOptionsTest, InconsistentValuesAreRefusedNamingTheSection) {
   ClientConfig config;
   config.mutable_ar()->set_min_distance_m(3);

@@ -133,6 +133,7 @@ TEST(ShippedConfigTest, ThesisClientTurnsEveryExtensionOff) {
   ASSERT_TRUE(LoadTextConfig(dir + "/client_thesis.pbtxt", &c, &error)) << error;
   EXPECT_FALSE(c.intrinsics_from_robot());
   EXPECT_FALSE(c.ar().motion_compensation());
+  EXPECT_FALSE(c.self_calibration().enabled());
   math::LaserCameraCalibration calibration;
   ASSERT_TRUE(
       math::LoadCalibrationProfile(dir + "/" + c.calibration_profile(), &calibration, &error))

@@ -302,6 +302,9 @@ bool FitOptions::IsValid(std::string* error) const {
       !positive(max_sigma_angle_rad)) {
     return Fail(error, "standard deviation bounds must be > 0");
   }
+  if (std::none_of(free.begin(), free.end(), [](bool f) { return f; })) {
+    return Fail(error, "no parameter is free");
+  }
   if (!(min_width_fraction >= 0.0 && min_width_fraction <= 1.0) ||
       !(min_height_fraction >= 0.0 && min_height_fraction <= 1.0) ||
       !(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) {

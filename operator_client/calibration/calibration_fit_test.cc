@@ -208,6 +208,13 @@ TEST(CalibrationFitTest, InvalidInputIsRefusedWithAReason) {
   FitOptions options;
   options.loss_px = 0.0;
   EXPECT_FALSE(options.IsValid(nullptr));
+  FitOptions none_free;
+  none_free.free.fill(false);
+  std::string why;
+  EXPECT_FALSE(none_free.IsValid(&why));
+  EXPECT_EQ(why, "no parameter is free");
+  none_free.free[kRoll] = true;
+  EXPECT_TRUE(none_free.IsValid(&why)) << why;
 }
 
 TEST(CalibrationFitTest, MoveParametersScalesFocalAndOffsetsTheRest) {

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
 #include <deque>
 #include <string>
@@ -46,7 +47,7 @@ struct CorrespondenceOptions {
   double max_line_residual_m = 0.015;
   // Smallest angle between the base line and the beam, radians: a line seen end-on fixes no
   // direction across it; in [0, pi/2).
-  double min_incidence_rad = 0.35;
+  double min_incidence_rad = 20.0 * M_PI / 180.0;
   // Laser ranges used, metres: near enough for the floor distance to be well resolved.
   double max_range_m = 6.0;
 

@@ -4,16 +4,31 @@
 
 namespace mostar::ui {
 
+bool ConsoleSelfCalibration::Options::IsValid(std::string* error) const {
+  std::string why;
+  if (window_points < 1 || window_age <= Duration::zero() || fit_period <= Duration::zero()) {
+    why = "window_points, window_age and fit_period must be > 0";
+  } else if (!correspondences.IsValid(&why)) {
+    why = "correspondences: " + why;
+  } else if (!fit.IsValid(&why)) {
+    why = "fit: " + why;
+  } else {
+    return true;
+  }
+  if (error != nullptr) *error = why;
+  return false;
+}
+
 ConsoleSelfCalibration::ConsoleSelfCalibration(const Options& options)
     : options_(options), window_(options.window_points, options.window_age), worker_(options.fit) {
-  MOSTAR_CHECK(options_.correspondences.IsValid(nullptr));
+  MOSTAR_CHECK(options_.IsValid(nullptr));
 }
 
 void ConsoleSelfCalibration::Update(const std::shared_ptr<const vision::VisionResult>& result,
                                     const NearestScan& nearest_scan,
                                     const vision::VisionOptions& vision,
                                     const render::StereoGeometry& geometry) {
-  if (!geometry.ready()) return;
+  if (!options_.enabled || !geometry.ready()) return;
   const math::LaserCameraCalibration& left = geometry.eye(0).image.calibration();
   in_force_ = calibration::ParametersOf(left);
   if (left.image_width_px != width_px_ || left.image_height_px != height_px_) {

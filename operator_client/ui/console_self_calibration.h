@@ -24,19 +24,24 @@ namespace mostar::ui {
 class ConsoleSelfCalibration {
  public:
   struct Options {
+    bool enabled = true;                             // off: Update does nothing
     size_t window_points = 3000;                     // newest correspondences kept
     Duration window_age = std::chrono::seconds(60);  // and none older than this
     Duration fit_period = std::chrono::seconds(2);   // of image time between fits
     calibration::CorrespondenceOptions correspondences;
     calibration::FitOptions fit;
+
+    bool IsValid(std::string* error) const;
   };
   using NearestScan = std::function<std::optional<LaserScan>(Time stamp)>;
 
   ConsoleSelfCalibration() : ConsoleSelfCalibration(Options{}) {}
-  // The options must be valid (asserted).
+  // The options must be valid (checked).
   explicit ConsoleSelfCalibration(const Options& options);
 
-  // One render tick with the shown edge result (null: none yet). A result not seen before adds
+  bool enabled() const { return options_.enabled; }
+  // One render tick with the shown edge result (null: none yet); nothing when disabled. A result
+  // not seen before adds
   // its correspondences, with the scan nearest its stamp (the one the edge worker was given);
   // every fit_period of image time the window is handed to the fit worker with `geometry`'s
   // image calibrations. An image size change empties the window.

@@ -156,5 +156,39 @@ TEST(ConsoleSelfCalibrationTest, EachResultCountsOnceAndAnImageSizeChangeEmpties
   EXPECT_EQ(self.window_points(), 0u);
 }
 
+TEST(ConsoleSelfCalibrationTest, DisabledCollectsNothingAndProposesNothing) {
+  ConsoleSelfCalibration::Options options;
+  options.enabled = false;
+  options.fit_period = std::chrono::milliseconds(100);
+  ConsoleSelfCalibration self(options);
+  EXPECT_FALSE(self.enabled());
+  const render::StereoGeometry geometry = Geometry(Truth());
+  for (int k = 0; k < 5; ++k) {
+    const Frame frame = RoomFrame(0.1 * k, k + 1, kT0 + std::chrono::milliseconds(500) * k);
+    self.Update(
+        frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, geometry);
+  }
+  EXPECT_EQ(self.window_points(), 0u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(self.proposal(), nullptr);
+}
+
+TEST(ConsoleSelfCalibrationTest, OptionsAreCheckedPartByPart) {
+  ConsoleSelfCalibration::Options options;
+  std::string why;
+  EXPECT_TRUE(options.IsValid(&why)) << why;
+  options.window_points = 0;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("window_points"), std::string::npos) << why;
+  options = {};
+  options.correspondences.max_range_m = 0.0;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_EQ(why.rfind("correspondences: ", 0), 0u) << why;
+  options = {};
+  options.fit.free.fill(false);
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_EQ(why, "fit: no parameter is free");
+}
+
 }  // namespace
 }  // namespace mostar::ui

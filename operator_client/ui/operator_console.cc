@@ -26,7 +26,8 @@ OperatorConsole::OperatorConsole(const ConsoleOptions& options, Window* window,
       commands_(commands),
       clock_(clock),
       mapper_(options.drive),
-      lease_(options.client_id, options.pilot) {}
+      lease_(options.client_id, options.pilot),
+      selfcal_(options.self_calibration) {}
 
 OperatorConsole::~OperatorConsole() = default;
 

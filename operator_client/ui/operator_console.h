@@ -77,6 +77,8 @@ struct ConsoleOptions {
   // parameters shared by both eyes (the thesis), or each camera's own image (the right eye then
   // takes the robot's right intrinsics when it publishes them).
   render::AlignmentModel alignment_model = render::AlignmentModel::kSharedModel;
+  // Proposals of a refined calibration from the agreeing NEPs (calibration panel); valid.
+  ConsoleSelfCalibration::Options self_calibration;
 };
 
 class OperatorConsole {

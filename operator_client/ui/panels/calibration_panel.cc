@@ -157,6 +157,10 @@ void ProposalRow(const char* name, const char* format, double current, double pr
 // error of both over the proposal's inliers, whether it can be trusted, Apply and Reject.
 void DrawSelfCalibration(ConsoleSelfCalibration* self, math::LaserCameraCalibration* live,
                          std::string* status_line) {
+  if (!self->enabled()) {
+    ImGui::TextDisabled("Self-calibration off (self_calibration { enabled: false })");
+    return;
+  }
   ImGui::Text("Self-calibration (%zu agreeing NEPs in the window)", self->window_points());
   const std::shared_ptr<const calibration::FitResult> shown = self->proposal();
   if (!shown) {
