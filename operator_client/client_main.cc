@@ -89,6 +89,11 @@ int Run(int argc, char** argv) {
                  "gives its stamp (captured_stamp_ns)")
       ->check(CLI::NonNegativeNumber)
       ->excludes(capture_stamp_option);
+  app.add_option("--window-size", flags.window_size,
+                 "window size WIDTHxHEIGHT in pixels (default: the image's, doubled in width "
+                 "for sbs)")
+      ->expected(2)
+      ->delimiter('x');
   app.add_flag("--no-hud", flags.no_hud, "hide the HUD (changing rates and ages; H toggles it)");
   app.add_option("--drive", scripted_drive, "scripted command V,W (m/s, rad/s) held throughout")
       ->expected(2)
@@ -201,16 +206,7 @@ int Run(int argc, char** argv) {
   };
   ui::CommandSender commands(sender_options, sinks, clock);
 
-  int window_w = 0;
-  int window_h = 0;
-  render::WindowSizeFor(console_options.mode, console_options.calibration.image_width_px,
-                        console_options.calibration.image_height_px, &window_w, &window_h);
-  ui::WindowOptions window_options;
-  window_options.width = window_w;
-  window_options.height = window_h;
-  window_options.visible = !headless;
-  window_options.request_quad_buffer = console_options.mode == render::DisplayMode::kQuadBuffer;
-  auto window = ui::Window::Create(window_options, &error);
+  auto window = ui::Window::Create(WindowOptionsFor(flags, console_options), &error);
   if (!window) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;

@@ -1,5 +1,6 @@
 #include "operator_client/client_options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/config/config_paths.h"
@@ -10,6 +11,10 @@
 namespace mostar::client {
 namespace {
 
+// --window-size bounds, pixels.
+constexpr int kMinWindowPx = 160;
+constexpr int kMaxWindowPx = 8192;
+
 // The self-calibration keys over the defaults of ConsoleSelfCalibration::Options.
 bool SelfCalibrationFromConfig(const SelfCalibrationConfig& config,
                                ui::ConsoleSelfCalibration::Options* options, std::string* error) {
@@ -17,6 +22,8 @@ bool SelfCalibrationFromConfig(const SelfCalibrationConfig& config,
   options->window_points = static_cast<size_t>(config.window_points());
   options->window_age = FromSeconds(config.window_age_s());
   options->fit_period = FromSeconds(config.fit_period_s());
+  options->min_motion_m = config.min_motion_m();
+  options->min_turn_rad = config.min_turn_deg() * M_PI / 180.0;
   options->fit.free = {config.fit_focal(),    config.fit_camera_x(), config.fit_camera_y(),
                        config.fit_camera_z(), config.fit_tilt(),     config.fit_pan(),
                        config.fit_roll()};
@@ -106,6 +113,14 @@ bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
     *error = "unknown display mode '" + display + "'";
     return false;
   }
+  if (!flags.window_size.empty() &&
+      (flags.window_size.size() != 2 ||
+       std::any_of(flags.window_size.begin(), flags.window_size.end(),
+                   [](int v) { return v < kMinWindowPx || v > kMaxWindowPx; }))) {
+    *error = "--window-size: give WIDTHxHEIGHT, each in [" + std::to_string(kMinWindowPx) + ", " +
+             std::to_string(kMaxWindowPx) + "] pixels";
+    return false;
+  }
   if (!flags.calibration_path.empty()) {
     if (!math::LoadCalibrationProfile(flags.calibration_path, &options->calibration, error)) {
       *error = "--calibration: " + *error;
@@ -114,6 +129,20 @@ bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
     options->calibration_path = flags.calibration_path;
   }
   return true;
+}
+
+ui::WindowOptions WindowOptionsFor(const ClientFlags& flags, const ui::ConsoleOptions& options) {
+  ui::WindowOptions window;
+  if (flags.window_size.size() == 2) {
+    window.width = flags.window_size[0];
+    window.height = flags.window_size[1];
+  } else {
+    render::WindowSizeFor(options.mode, options.calibration.image_width_px,
+                          options.calibration.image_height_px, &window.width, &window.height);
+  }
+  window.visible = !options.headless;
+  window.request_quad_buffer = options.mode == render::DisplayMode::kQuadBuffer;
+  return window;
 }
 
 bool ResolveClientId(const ClientFlags& flags, bool secure, const std::string& certificate_cn,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "operator_client/client_config.pb.h"
 #include "operator_client/ui/operator_console.h"
@@ -20,6 +21,7 @@ struct ClientFlags {
   bool headless = false;
   bool calibration_panel = false;
   bool no_hud = false;
+  std::vector<int> window_size;  // --window-size W x H in pixels; empty: the image's size
 };
 
 // The configuration file's part: calibration profile (relative to `config_dir`), AR features,
@@ -30,6 +32,10 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
 // The flags over `options` (from ConsoleOptionsFromConfig of `config`).
 bool ApplyClientFlags(const ClientFlags& flags, const ClientConfig& config,
                       ui::ConsoleOptions* options, std::string* error);
+
+// The window: --window-size, else sized for the display mode and the calibration's image
+// (render::WindowSizeFor); hidden when headless, quad-buffered for quad-buffer stereo.
+ui::WindowOptions WindowOptionsFor(const ClientFlags& flags, const ui::ConsoleOptions& options);
 
 // The client id this client sends as sender_id and shows in the lease. Without DDS Security
 // (`secure` false): --id (default "operator"). With it the robot drops every sample whose

@@ -57,6 +57,8 @@ TEST(ClientOptionsTest, SelfCalibrationKeysReachTheConsole) {
   EXPECT_EQ(defaults.self_calibration.window_points, built_in.window_points);
   EXPECT_EQ(defaults.self_calibration.window_age, built_in.window_age);
   EXPECT_EQ(defaults.self_calibration.fit_period, built_in.fit_period);
+  EXPECT_DOUBLE_EQ(defaults.self_calibration.min_motion_m, built_in.min_motion_m);
+  EXPECT_NEAR(defaults.self_calibration.min_turn_rad, built_in.min_turn_rad, 1e-12);
   EXPECT_EQ(defaults.self_calibration.fit.free, built_in.fit.free) << "x, z and roll held";
   EXPECT_EQ(defaults.self_calibration.fit.min_points, built_in.fit.min_points);
   EXPECT_DOUBLE_EQ(defaults.self_calibration.fit.inlier_px, built_in.fit.inlier_px);
@@ -68,6 +70,8 @@ TEST(ClientOptionsTest, SelfCalibrationKeysReachTheConsole) {
   self->set_window_points(500);
   self->set_window_age_s(20);
   self->set_fit_period_s(0.5);
+  self->set_min_motion_m(0.1);
+  self->set_min_turn_deg(0);
   self->set_fit_roll(true);
   self->set_fit_pan(false);
   self->set_loss_px(2.0);
@@ -82,6 +86,8 @@ TEST(ClientOptionsTest, SelfCalibrationKeysReachTheConsole) {
   EXPECT_EQ(o.window_points, 500u);
   EXPECT_EQ(o.window_age, std::chrono::seconds(20));
   EXPECT_EQ(o.fit_period, std::chrono::milliseconds(500));
+  EXPECT_DOUBLE_EQ(o.min_motion_m, 0.1);
+  EXPECT_EQ(o.min_turn_rad, 0.0);
   EXPECT_TRUE(o.fit.free[calibration::kRoll]);
   EXPECT_FALSE(o.fit.free[calibration::kPan]);
   EXPECT_TRUE(o.fit.free[calibration::kTilt]);
@@ -143,6 +149,35 @@ TEST(ClientOptionsTest, FlagsOverrideAndTheConfigGivesTheDisplayModeOtherwise) {
   flags.display = "sbs";
   ASSERT_TRUE(ApplyClientFlags(flags, config, &options, &error)) << error;
   EXPECT_EQ(options.mode, render::DisplayMode::kSideBySideFull);
+}
+
+TEST(ClientOptionsTest, TheWindowIsSizedForTheImageUnlessGiven) {
+  ui::ConsoleOptions options;
+  std::string error;
+  ClientFlags flags;
+  flags.headless = true;
+  flags.display = "sbs";
+  ASSERT_TRUE(ApplyClientFlags(flags, ClientConfig{}, &options, &error)) << error;
+  ui::WindowOptions window = WindowOptionsFor(flags, options);
+  EXPECT_EQ(window.width, 2 * options.calibration.image_width_px) << "both eyes side by side";
+  EXPECT_EQ(window.height, options.calibration.image_height_px);
+  EXPECT_FALSE(window.visible);
+  EXPECT_FALSE(window.request_quad_buffer);
+  flags.window_size = {900, 1000};
+  flags.headless = false;
+  flags.display = "quad-buffer";
+  ASSERT_TRUE(ApplyClientFlags(flags, ClientConfig{}, &options, &error)) << error;
+  window = WindowOptionsFor(flags, options);
+  EXPECT_EQ(window.width, 900);
+  EXPECT_EQ(window.height, 1000);
+  EXPECT_TRUE(window.visible);
+  EXPECT_TRUE(window.request_quad_buffer);
+  for (const std::vector<int>& bad :
+       std::vector<std::vector<int>>{{100, 480}, {640, 9000}, {640}}) {
+    flags.window_size = bad;
+    EXPECT_FALSE(ApplyClientFlags(flags, ClientConfig{}, &options, &error));
+    EXPECT_EQ(error.rfind("--window-size: ", 0), 0u) << error;
+  }
 }
 
 TEST(ClientOptionsTest, BadFlagsAreRefusedWithTheValue) {

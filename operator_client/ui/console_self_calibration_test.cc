@@ -82,13 +82,13 @@ std::shared_ptr<const calibration::FitResult> FeedUntilProposal(ConsoleSelfCalib
     const Frame frame =
         RoomFrame(0.25 * std::sin(0.4 * k), k + 1, kT0 + std::chrono::milliseconds(500) * k);
     self->Update(
-        frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, g);
+        frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{}, g);
     self->Update(
-        frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, g);
+        frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{}, g);
   }
   for (int i = 0; i < 600 && !self->proposal(); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    self->Update(nullptr, nullptr, vision::VisionOptions{}, g);
+    self->Update(nullptr, nullptr, std::nullopt, vision::VisionOptions{}, g);
   }
   return self->proposal();
 }
@@ -134,7 +134,7 @@ TEST(ConsoleSelfCalibrationTest, RejectHidesAndStaleProposalsAreNotShown) {
   ASSERT_NE(FeedUntilProposal(&other, geometry, 5), nullptr);
   math::LaserCameraCalibration edited = live;
   edited.tilt_rad += 0.01;  // a slider edit: the proposal started from another calibration
-  other.Update(nullptr, nullptr, vision::VisionOptions{}, Geometry(edited));
+  other.Update(nullptr, nullptr, std::nullopt, vision::VisionOptions{}, Geometry(edited));
   EXPECT_EQ(other.proposal(), nullptr);
 }
 
@@ -144,16 +144,69 @@ TEST(ConsoleSelfCalibrationTest, EachResultCountsOnceAndAnImageSizeChangeEmpties
   const render::StereoGeometry geometry = Geometry(c);
   const Frame frame = RoomFrame(0.0, 1, kT0);
   self.Update(
-      frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, geometry);
+      frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{},
+      geometry);
   const size_t once = self.window_points();
   EXPECT_GT(once, 0u);
   self.Update(
-      frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, geometry);
+      frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{},
+      geometry);
   EXPECT_EQ(self.window_points(), once);
   c.image_width_px = 1280;
   c.image_height_px = 960;
-  self.Update(nullptr, nullptr, vision::VisionOptions{}, Geometry(c));
+  self.Update(nullptr, nullptr, std::nullopt, vision::VisionOptions{}, Geometry(c));
   EXPECT_EQ(self.window_points(), 0u);
+}
+
+Odometry At(double x_m, double theta_rad) {
+  Odometry odometry;
+  odometry.pose.x_m = x_m;
+  odometry.pose.theta_rad = theta_rad;
+  return odometry;
+}
+
+// One scan serves several images, and a still robot sends new scans of an unchanged view: both
+// add nothing; the robot moving on does.
+TEST(ConsoleSelfCalibrationTest, RepeatedEvidenceIsAddedOnce) {
+  ConsoleSelfCalibration self;
+  const render::StereoGeometry geometry = Geometry(Truth());
+  const Frame first = RoomFrame(0.0, 1, kT0);
+  const auto scan_of = [](const Frame& f) { return [&f](Time) { return f.scan; }; };
+  self.Update(first.result, scan_of(first), At(0, 0), vision::VisionOptions{}, geometry);
+  const size_t once = self.window_points();
+  ASSERT_GT(once, 0u);
+  Frame same_scan = RoomFrame(0.0, 2, kT0 + std::chrono::milliseconds(33));
+  same_scan.scan.stamp = first.scan.stamp;  // the next image, drawn with the same scan
+  self.Update(same_scan.result, scan_of(same_scan), std::nullopt, vision::VisionOptions{},
+              geometry);
+  EXPECT_EQ(self.window_points(), once) << "the same scan, without odometry too";
+  for (uint64_t k = 3; k < 7; ++k) {  // new scans, the robot still (within 1 cm, 0.3 degree)
+    const Frame still = RoomFrame(0.0, k, kT0 + std::chrono::milliseconds(100) * k);
+    self.Update(still.result, scan_of(still), At(0.01, 0.005), vision::VisionOptions{}, geometry);
+  }
+  EXPECT_EQ(self.window_points(), once);
+  EXPECT_EQ(self.repeated_results(), 5u);
+  const Frame moved = RoomFrame(0.0, 7, kT0 + std::chrono::milliseconds(700));
+  self.Update(moved.result, scan_of(moved), At(0.03, 0.0), vision::VisionOptions{}, geometry);
+  EXPECT_EQ(self.window_points(), 2 * once) << "3 cm on";
+  const Frame turned = RoomFrame(0.0, 8, kT0 + std::chrono::milliseconds(800));
+  self.Update(turned.result, scan_of(turned), At(0.03, 0.01), vision::VisionOptions{}, geometry);
+  EXPECT_EQ(self.window_points(), 3 * once) << "turned 0.6 degree";
+  const Frame no_odometry = RoomFrame(0.0, 9, kT0 + std::chrono::milliseconds(900));
+  self.Update(no_odometry.result, scan_of(no_odometry), std::nullopt, vision::VisionOptions{},
+              geometry);
+  EXPECT_EQ(self.window_points(), 4 * once) << "a new scan, and nothing says the robot is still";
+
+  ConsoleSelfCalibration::Options every;
+  every.min_motion_m = 0.0;
+  every.min_turn_rad = 0.0;
+  ConsoleSelfCalibration all(every);
+  for (uint64_t k = 1; k < 4; ++k) {
+    const Frame still = RoomFrame(0.0, k, kT0 + std::chrono::milliseconds(100) * k);
+    all.Update(still.result, scan_of(still), At(0, 0), vision::VisionOptions{}, geometry);
+  }
+  EXPECT_EQ(all.window_points(), 3 * once);
+  EXPECT_EQ(all.repeated_results(), 0u);
 }
 
 TEST(ConsoleSelfCalibrationTest, DisabledCollectsNothingAndProposesNothing) {
@@ -166,7 +219,8 @@ TEST(ConsoleSelfCalibrationTest, DisabledCollectsNothingAndProposesNothing) {
   for (int k = 0; k < 5; ++k) {
     const Frame frame = RoomFrame(0.1 * k, k + 1, kT0 + std::chrono::milliseconds(500) * k);
     self.Update(
-        frame.result, [&](Time) { return frame.scan; }, vision::VisionOptions{}, geometry);
+        frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{},
+        geometry);
   }
   EXPECT_EQ(self.window_points(), 0u);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));

@@ -50,9 +50,7 @@ bool OperatorConsole::Init(std::string* error) {
 }
 
 void OperatorConsole::Send(ControlRequest request) {
-  if (request != ControlRequest::kNone) {
-    commands_->RequestControl(request == ControlRequest::kTake);
-  }
+  if (request != ControlRequest::kNone) commands_->RequestControl(request == ControlRequest::kTake);
 }
 
 void OperatorConsole::AdoptRobotIntrinsics(const client::RobotSnapshot& robot) {
@@ -126,7 +124,8 @@ void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair
   std::string error;
   const auto nearest = [this](Time stamp) { return robot_->NearestScan(stamp); };
   vision_->Update(latest, options_.vision_enabled, nearest, OverlayBuilder(&error));
-  selfcal_.Update(vision_->picker().shown_result(), nearest, options_.vision, geometry_);
+  selfcal_.Update(vision_->picker().shown_result(), nearest, robot_->Snapshot().odometry,
+                  options_.vision, geometry_);
 }
 
 const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* error) {
@@ -266,6 +265,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.sonar_echoes = sonar.echoes;
     hud.sonar_unseen = sonar.unseen;
     hud.overlay_note = MotionOverlayNote(motion_);
+    hud.calibration_proposal = !options_.show_calibration_panel && selfcal_.trustworthy_proposal();
     DrawHudPanel(robot, video_->Stats(), hud, clock_->SteadyNow());
   }
   if (options_.show_map) {

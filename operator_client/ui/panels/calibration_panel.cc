@@ -92,7 +92,6 @@ void DrawProfileButtons(const std::string& profile_path, const CalibrationPanelT
 }
 
 void DrawArSwitches(fusion::ArFeatureOptions* ar) {
-  ImGui::Text("AR features");
   ImGui::Checkbox("walls", &ar->walls_enabled);
   ImGui::SameLine();
   ImGui::Checkbox("rays", &ar->rays_enabled);
@@ -112,7 +111,7 @@ void DrawStereoAlignment(const CalibrationPanelTargets& edit,
                          const std::optional<StereoOffsetHint>& hint) {
   render::EyeAlignment* left = edit.left_alignment;
   render::EyeAlignment* right = edit.right_alignment;
-  ImGui::Text("Stereo alignment (right eye image offset, px)");
+  ImGui::TextUnformatted("Right eye image offset, px:");
   int model = *edit.alignment_model == render::AlignmentModel::kPerEyeIntrinsics ? 1 : 0;
   const char* models[] = {"shared parameters (thesis)", "per-eye intrinsics"};
   if (ImGui::Combo("model", &model, models, 2)) {
@@ -142,6 +141,15 @@ void DrawStereoAlignment(const CalibrationPanelTargets& edit,
   render::CropForRightOffset(dx, dy, left, right);
 }
 
+// A few words for the section's title: off, no proposal yet, or what the proposal is.
+std::string SelfCalibrationState(const ConsoleSelfCalibration& self) {
+  if (!self.enabled()) return "off";
+  const std::shared_ptr<const calibration::FitResult> shown = self.proposal();
+  if (!shown) return "collecting";
+  if (!shown->ok) return "no proposal";
+  return shown->trustworthy ? "proposal ready" : "proposal not trustworthy";
+}
+
 // One row of the proposal table: the parameter, its current and its proposed value.
 void ProposalRow(const char* name, const char* format, double current, double proposed) {
   ImGui::TableNextRow();
@@ -158,10 +166,10 @@ void ProposalRow(const char* name, const char* format, double current, double pr
 void DrawSelfCalibration(ConsoleSelfCalibration* self, math::LaserCameraCalibration* live,
                          std::string* status_line) {
   if (!self->enabled()) {
-    ImGui::TextDisabled("Self-calibration off (self_calibration { enabled: false })");
+    ImGui::TextDisabled("off in the client configuration (self_calibration { enabled: false })");
     return;
   }
-  ImGui::Text("Self-calibration (%zu agreeing NEPs in the window)", self->window_points());
+  ImGui::Text("%zu agreeing NEPs in the window", self->window_points());
   const std::shared_ptr<const calibration::FitResult> shown = self->proposal();
   if (!shown) {
     ImGui::TextDisabled("no proposal yet: edges on, drive past walls");
@@ -227,19 +235,26 @@ void DrawCalibrationPanel(const std::string& profile_path, const CalibrationPane
   ImGui::SetNextWindowSizeConstraints(
       ImVec2(280, 120), ImVec2(io.DisplaySize.x, std::max(120.f, io.DisplaySize.y - top - 8)));
   ImGui::Begin("Calibration", edit.open);
-  ImGui::TextWrapped(
-      "Order: 1 focal on far objects, 2 y and tilt on the floor, 3 z on near objects, "
-      "4 x last. Rays and lines are shown while this panel is open.");
-  DrawCalibrationSliders(edit.calibration, edit.status_line);
-  DrawProfileButtons(profile_path, edit);
-  ImGui::Separator();
-  DrawArSwitches(edit.ar);
-  ImGui::Separator();
-  DrawStereoAlignment(edit, hint);
-  DrawDisplayMode(edit.mode);
+  constexpr ImGuiTreeNodeFlags kOpen = ImGuiTreeNodeFlags_DefaultOpen;
+  if (ImGui::CollapsingHeader("Laser-camera calibration", kOpen)) {
+    ImGui::TextWrapped(
+        "Order: 1 focal on far objects, 2 y and tilt on the floor, 3 z on near objects, "
+        "4 x last. Rays and lines are shown while this panel is open.");
+    DrawCalibrationSliders(edit.calibration, edit.status_line);
+    DrawProfileButtons(profile_path, edit);
+  }
   if (edit.self_calibration != nullptr) {
-    ImGui::Separator();
-    DrawSelfCalibration(edit.self_calibration, edit.calibration, edit.status_line);
+    // The state in the title, so that a collapsed section still tells of a proposal.
+    const std::string title =
+        "Self-calibration: " + SelfCalibrationState(*edit.self_calibration) + "###self_calibration";
+    if (ImGui::CollapsingHeader(title.c_str(), kOpen)) {
+      DrawSelfCalibration(edit.self_calibration, edit.calibration, edit.status_line);
+    }
+  }
+  if (ImGui::CollapsingHeader("AR features", kOpen)) DrawArSwitches(edit.ar);
+  if (ImGui::CollapsingHeader("Stereo alignment and display", kOpen)) {
+    DrawStereoAlignment(edit, hint);
+    DrawDisplayMode(edit.mode);
   }
   ImGui::End();
 }

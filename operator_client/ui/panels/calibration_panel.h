@@ -1,10 +1,11 @@
-// The calibration and AR panel (C): laser-camera calibration sliders in the thesis' order,
-// save/load/reset of the profile (with the stereo alignment), AR feature switches and colour
-// thresholds, the stereo alignment of the right eye (model, offsets, NESC's vertical offset
-// suggestion with Apply), the self-calibration's proposal against the current values with both
-// reprojection errors (Apply / Reject; never applied without the click) and the display mode. Edits
-// go straight into the caller's values; a calibration edit that would be invalid is refused (status
-// line). ImGui; render thread.
+// The calibration and AR panel (C), in collapsible sections: the laser-camera calibration
+// sliders in the thesis' order with save/load/reset of the profile (with the stereo alignment);
+// the self-calibration's proposal against the current values with both reprojection errors
+// (Apply / Reject; never applied without the click; its state in the section's title); the AR
+// feature switches and colour thresholds; the stereo alignment of the right eye (model,
+// offsets, NESC's vertical offset suggestion with Apply) and the display mode. Edits go
+// straight into the caller's values; a calibration edit that would be invalid is refused
+// (status line). ImGui; render thread.
 #pragma once
 
 #include <optional>

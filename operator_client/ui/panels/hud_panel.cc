@@ -87,6 +87,9 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
   if (!status.overlay_note.empty()) {
     ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s", status.overlay_note.c_str());
   }
+  if (status.calibration_proposal) {
+    ImGui::TextColored(ImVec4(0.4f, 0.9f, 1, 1), "calibration proposal ready: C to review");
+  }
   if (status.pending_estop) {
     ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "e-stop %s sent, not yet confirmed by the robot",
                        *status.pending_estop ? "engage" : "release");

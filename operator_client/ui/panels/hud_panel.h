@@ -1,6 +1,7 @@
 // The heads-up display (top left): video and scan rates, display age, link health, the pilot
 // and watchdog, device problems, bumper contacts (flashing), sonar echoes the laser misses, the
-// drive command, a faded overlay's reason and the status line. ImGui; render thread.
+// drive command, a faded overlay's reason, a waiting calibration proposal and the status line.
+// ImGui; render thread.
 #pragma once
 
 #include <optional>
@@ -35,6 +36,8 @@ struct HudStatus {
   size_t sonar_unseen = 0;
   // The overlay is drawn faded (not at the image's time) and why; empty otherwise.
   std::string overlay_note;
+  // A trustworthy self-calibration proposal waits in the closed calibration panel (C).
+  bool calibration_proposal = false;
 };
 
 // `now`: steady time, for the ages of the last samples.
