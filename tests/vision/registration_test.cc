@@ -23,13 +23,17 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/stats/percentile.h"
 #include "operator_client/render/eye_geometry.h"
 #include "operator_client/render/eye_renderer.h"
+#include "operator_client/render/eye_viewports.h"
 #include "operator_client/render/gl.h"
+#include "operator_client/render/screenshot.h"
+#include "operator_client/render/stereo_compositor.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/sim/sim_world.h"
@@ -67,8 +71,8 @@ class RegistrationTest : public ::testing::Test {
   static void SetUpTestSuite() {
     if (std::getenv("DISPLAY") == nullptr) return;
     ui::WindowOptions options;
-    options.width = 640;
-    options.height = 480;
+    options.width = kWindowW;
+    options.height = kWindowH;
     options.visible = false;
     window_ = ui::Window::Create(options, &window_error_).release();
   }
@@ -84,6 +88,38 @@ class RegistrationTest : public ::testing::Test {
     ASSERT_NE(window_, nullptr) << window_error_;
     std::string error;
     ASSERT_TRUE(eye_.Init(&error)) << error;
+    ASSERT_TRUE(right_eye_.Init(&error)) << error;
+    ASSERT_TRUE(compositor_.Init(&error)) << error;
+  }
+
+  // The window (640 x 480) after `mode` composed the eyes with `image` shown by `eye` and the
+  // other eye black, as the brightest channel of each pixel (anaglyphs put each eye in its own
+  // channels, interlacing in its own rows).
+  cv::Mat Composed(render::DisplayMode mode, Eye eye, const cv::Mat& image,
+                   const render::EyeView& view) {
+    const cv::Mat black(image.size(), image.type(), cv::Scalar::all(0));
+    eye_.Render(eye == Eye::kLeft ? image : black, view, {}, {});
+    right_eye_.Render(eye == Eye::kRight ? image : black, view, {}, {});
+    compositor_.Compose(mode, eye_.texture(), right_eye_.texture(), kWindowW, kWindowH, false);
+    const cv::Mat bgr = render::ReadFramebuffer(kWindowW, kWindowH);
+    std::vector<cv::Mat> channels;
+    cv::split(bgr, channels);
+    cv::Mat brightest;
+    cv::max(channels[0], channels[1], brightest);
+    cv::max(brightest, channels[2], brightest);
+    return brightest;
+  }
+
+  // Where `mode` shows the eye image's pixel `p` (pixel centres) in the window; nullopt when
+  // the mode does not show `eye`.
+  std::optional<Eigen::Vector2d> InWindow(render::DisplayMode mode, Eye eye,
+                                          const Eigen::Vector2d& p) const {
+    for (const render::EyeViewport& v : render::EyeViewports(mode, kWindowW, kWindowH)) {
+      if (v.eye != eye) continue;
+      return Eigen::Vector2d(v.x_px + (p.x() + 0.5) * v.width_px / eye_.width() - 0.5,
+                             v.y_px + (p.y() + 0.5) * v.height_px / eye_.height() - 0.5);
+    }
+    return std::nullopt;
   }
 
   cv::Mat ReadEye() const {
@@ -139,9 +175,13 @@ class RegistrationTest : public ::testing::Test {
     return c;
   }
 
-  // Registration errors of one eye; `before` (optional) gets the former drawing's errors.
+  // Registration errors of one eye, in the eye's image or, with `mode`, in the window that mode
+  // composes (window pixels; `expected_as`, a control: the overlay placed as another mode
+  // places it); `before` (optional) gets the former drawing's errors.
   EyeErrors Measure(const Scenario& s, const sim::SimWorld& world, Eye eye,
-                    const std::vector<TruthPoint>& points, EyeErrors* before) {
+                    const std::vector<TruthPoint>& points, EyeErrors* before,
+                    std::optional<render::DisplayMode> mode = std::nullopt,
+                    std::optional<render::DisplayMode> expected_as = std::nullopt) {
     EyeErrors out;
     const sim::LaserCameraCalibration& truth = world.calibration();
     const double h = world.laser_params().height_m;
@@ -222,10 +262,19 @@ class RegistrationTest : public ::testing::Test {
           }
         }
       }
-      eye_.Render(image, view, {}, {});
-      const cv::Mat shown = ReadEye();
+      cv::Mat shown;
+      if (mode) {
+        shown = Composed(*mode, eye, image, view);
+      } else {
+        eye_.Render(image, view, {}, {});
+        shown = ReadEye();
+      }
       for (size_t i : batch) {
-        const Eigen::Vector2d& o = samples[i].overlay;
+        const std::optional<Eigen::Vector2d> where =
+            mode ? InWindow(expected_as.value_or(*mode), eye, samples[i].overlay)
+                 : samples[i].overlay;
+        if (!where) continue;
+        const Eigen::Vector2d& o = *where;
         const cv::Rect window(static_cast<int>(o.x()) - kSearchPx,
                               static_cast<int>(o.y()) - kSearchPx, 2 * kSearchPx + 1,
                               2 * kSearchPx + 1);
@@ -253,9 +302,13 @@ class RegistrationTest : public ::testing::Test {
 
   static double P(const std::vector<double>& v, double q) { return Percentile(v, q).value_or(-1); }
 
+  static constexpr int kWindowW = 640;
+  static constexpr int kWindowH = 480;
   static ui::Window* window_;
   static std::string window_error_;
-  render::EyeRenderer eye_;
+  render::EyeRenderer eye_;  // the left eye's when composing
+  render::EyeRenderer right_eye_;
+  render::StereoCompositor compositor_;
 };
 
 ui::Window* RegistrationTest::window_ = nullptr;
@@ -321,6 +374,50 @@ TEST_F(RegistrationTest, OverlaySitsOnTheImageWithLensDistortionAndStereoOffset)
     ASSERT_GT(between.size(), 50u);
     EXPECT_LE(P(between, 0.95), 1.0) << s.name;
   }
+}
+
+// Every display mode: each eye's dots composed into the 640 x 480 window as the console does
+// (StereoCompositor, EyeViewports), measured in window pixels against where the mode puts the
+// overlay's pixel. Side-by-side (full) shows each eye 1:1 in its half of a window twice as wide,
+// as mono does; quad-buffer falls back to mono-left without a stereo driver (Mesa).
+TEST_F(RegistrationTest, OverlaySitsOnTheImageInEveryDisplayMode) {
+  const Scenario s{"k1 -0.28, right 5 px low, shared model, dy -5", -0.28, 5.0,
+                   render::AlignmentModel::kSharedModel, -5.f};
+  auto world = MakeWorld(s);
+  ASSERT_NE(world, nullptr);
+  const std::vector<TruthPoint> points = TruthPoints(*world);
+  std::printf(
+      "| display mode | eye | wall bases p50 / p95 window px (n) | circle points p50 / p95 window "
+      "px (n) |\n|---|---|---|---|\n");
+  for (const render::DisplayMode mode :
+       {render::DisplayMode::kMonoLeft, render::DisplayMode::kMonoRight,
+        render::DisplayMode::kAnaglyphGrey, render::DisplayMode::kAnaglyphColor,
+        render::DisplayMode::kSideBySideHalf, render::DisplayMode::kTopBottom,
+        render::DisplayMode::kRowInterlaced}) {
+    for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+      const bool shown = InWindow(mode, eye, Eigen::Vector2d(0, 0)).has_value();
+      const EyeErrors m = Measure(s, *world, eye, points, nullptr, mode);
+      if (!shown) {
+        EXPECT_TRUE(m.wall_px.empty() && m.circle_px.empty()) << render::DisplayModeName(mode);
+        continue;
+      }
+      std::printf("| %s | %s | %.2f / %.2f (%zu) | %.2f / %.2f (%zu) |\n",
+                  render::DisplayModeName(mode), EyeName(eye), P(m.wall_px, 0.5),
+                  P(m.wall_px, 0.95), m.wall_px.size(), P(m.circle_px, 0.5), P(m.circle_px, 0.95),
+                  m.circle_px.size());
+      ASSERT_GT(m.wall_px.size(), 50u) << render::DisplayModeName(mode);
+      ASSERT_GT(m.circle_px.size(), 50u) << render::DisplayModeName(mode);
+      EXPECT_LE(P(m.wall_px, 0.95), 0.5) << render::DisplayModeName(mode) << ", " << EyeName(eye);
+      EXPECT_LE(P(m.circle_px, 0.95), 0.5) << render::DisplayModeName(mode) << ", " << EyeName(eye);
+    }
+  }
+  // Control: the squeezed left eye of sbs-half measured where mono-left would put it.
+  const EyeErrors control =
+      Measure(s, *world, Eye::kLeft, points, nullptr, render::DisplayMode::kSideBySideHalf,
+              render::DisplayMode::kMonoLeft);
+  std::printf("| control: sbs-half measured as mono-left | left | %.2f / %.2f (%zu) | |\n",
+              P(control.wall_px, 0.5), P(control.wall_px, 0.95), control.wall_px.size());
+  EXPECT_GT(P(control.wall_px, 0.5), 5.0);
 }
 
 // A picture to look at: the simulated corridor (k1 = -0.28) through the eye renderer with the
