@@ -1,5 +1,7 @@
 #include "common/math/calibration_io.h"
 
+#include <cmath>
+
 #include "common/config/config_loader.h"
 
 namespace mostar::math {
@@ -96,7 +98,7 @@ bool StereoAlignmentProfile::operator==(const StereoAlignmentProfile& other) con
          right_offset_x_px == other.right_offset_x_px &&
          right_offset_y_px == other.right_offset_y_px && crop_left_px == other.crop_left_px &&
          crop_right_px == other.crop_right_px && crop_top_px == other.crop_top_px &&
-         crop_bottom_px == other.crop_bottom_px;
+         crop_bottom_px == other.crop_bottom_px && right_rotation_rad == other.right_rotation_rad;
 }
 
 proto::StereoAlignment ToProto(const StereoAlignmentProfile& alignment) {
@@ -109,6 +111,7 @@ proto::StereoAlignment ToProto(const StereoAlignmentProfile& alignment) {
   message.set_crop_right_px(alignment.crop_right_px);
   message.set_crop_top_px(alignment.crop_top_px);
   message.set_crop_bottom_px(alignment.crop_bottom_px);
+  message.set_right_rotation_deg(alignment.right_rotation_rad * 180.0 / M_PI);
   return message;
 }
 
@@ -121,6 +124,7 @@ StereoAlignmentProfile FromProto(const proto::StereoAlignment& message) {
   alignment.crop_right_px = message.crop_right_px();
   alignment.crop_top_px = message.crop_top_px();
   alignment.crop_bottom_px = message.crop_bottom_px();
+  alignment.right_rotation_rad = message.right_rotation_deg() * M_PI / 180.0;
   return alignment;
 }
 

@@ -37,6 +37,7 @@ struct StereoAlignmentProfile {
   double crop_right_px = 0.0;
   double crop_top_px = 0.0;
   double crop_bottom_px = 0.0;
+  double right_rotation_rad = 0.0;  // as a camera roll; the profile holds degrees
 
   bool operator==(const StereoAlignmentProfile& other) const;
 };

@@ -1,11 +1,14 @@
 #include "operator_client/render/eye_geometry.h"
 
+#include <cmath>
+
 namespace mostar::render {
 
 bool EyeAlignment::operator==(const EyeAlignment& other) const {
   return offset_x_px == other.offset_x_px && offset_y_px == other.offset_y_px &&
-         crop_left_px == other.crop_left_px && crop_right_px == other.crop_right_px &&
-         crop_top_px == other.crop_top_px && crop_bottom_px == other.crop_bottom_px;
+         rotation_rad == other.rotation_rad && crop_left_px == other.crop_left_px &&
+         crop_right_px == other.crop_right_px && crop_top_px == other.crop_top_px &&
+         crop_bottom_px == other.crop_bottom_px;
 }
 
 void CropForRightOffset(float dx_px, float dy_px, EyeAlignment* left, EyeAlignment* right) {
@@ -35,15 +38,17 @@ std::optional<EyeGeometry> MakeEyeGeometry(const math::LaserCameraCalibration& c
                                            math::Eye eye, const EyeAlignment& alignment,
                                            AlignmentModel model, std::string* error) {
   if (!calibration.IsValid(error)) return std::nullopt;
-  // The principal point of the other model: moved by the offset one way or the other.
+  // The principal point and roll of the other model: moved by the offset and the rotation one
+  // way or the other.
   const double sign = model == AlignmentModel::kSharedModel ? -1.0 : 1.0;
   math::LaserCameraCalibration moved = calibration;
   moved.principal_x_px = calibration.cx() + sign * alignment.offset_x_px;
   moved.principal_y_px = calibration.cy() + sign * alignment.offset_y_px;
+  moved.roll_rad = calibration.roll_rad + sign * alignment.rotation_rad;
   std::string why;
   std::optional<math::CameraModel> other = math::CameraModel::Create(moved, eye, &why);
   if (!other) {
-    if (error != nullptr) *error = "stereo offset: " + why;
+    if (error != nullptr) *error = "stereo alignment: " + why;
     return std::nullopt;
   }
   const math::CameraModel given(calibration, eye);
@@ -57,6 +62,8 @@ ImageWarp MakeImageWarp(const EyeGeometry& geometry) {
   ImageWarp warp;
   warp.fx = static_cast<float>(image.fx());
   warp.fy = static_cast<float>(image.fy());
+  warp.rotation_cos = static_cast<float>(std::cos(display.roll_rad - image.roll_rad));
+  warp.rotation_sin = static_cast<float>(std::sin(display.roll_rad - image.roll_rad));
   warp.display_cx = static_cast<float>(display.cx());
   warp.display_cy = static_cast<float>(display.cy());
   warp.image_cx = static_cast<float>(image.cx());
@@ -70,8 +77,10 @@ ImageWarp MakeImageWarp(const EyeGeometry& geometry) {
 }
 
 Eigen::Vector2d WarpToImage(const ImageWarp& w, const Eigen::Vector2d& display_px) {
-  const double x = (display_px.x() - w.display_cx) / w.fx;
-  const double y = (display_px.y() - w.display_cy) / w.fy;
+  const double xr = (display_px.x() - w.display_cx) / w.fx;
+  const double yr = (display_px.y() - w.display_cy) / w.fy;
+  const double x = w.rotation_cos * xr - w.rotation_sin * yr;
+  const double y = w.rotation_sin * xr + w.rotation_cos * yr;
   const double r2 = x * x + y * y;
   const double radial = 1.0 + r2 * (w.k1 + r2 * (w.k2 + r2 * w.k3));
   const double xd = x * radial + 2.0 * w.p1 * x * y + w.p2 * (r2 + 2.0 * x * x);
@@ -98,6 +107,7 @@ math::StereoAlignmentProfile ToProfile(AlignmentModel model, const EyeAlignment&
   p.crop_right_px = right.crop_right_px;
   p.crop_top_px = right.crop_top_px;
   p.crop_bottom_px = right.crop_bottom_px;
+  p.right_rotation_rad = right.rotation_rad - left.rotation_rad;
   return p;
 }
 
@@ -108,6 +118,7 @@ void FromProfile(const math::StereoAlignmentProfile& p, AlignmentModel* model, E
   *right = EyeAlignment{};
   right->offset_x_px = static_cast<float>(p.right_offset_x_px);
   right->offset_y_px = static_cast<float>(p.right_offset_y_px);
+  right->rotation_rad = static_cast<float>(p.right_rotation_rad);
   for (EyeAlignment* a : {left, right}) {
     a->crop_left_px = static_cast<float>(p.crop_left_px);
     a->crop_right_px = static_cast<float>(p.crop_right_px);
@@ -126,7 +137,8 @@ bool StereoGeometry::Update(const math::LaserCameraCalibration& left,
   std::string key = math::ToProto(left).SerializeAsString() + "|" +
                     math::ToProto(right).SerializeAsString() + "|" + AlignmentModelName(model);
   for (const EyeAlignment* a : alignments) {
-    key += "|" + std::to_string(a->offset_x_px) + "," + std::to_string(a->offset_y_px);
+    key += "|" + std::to_string(a->offset_x_px) + "," + std::to_string(a->offset_y_px) + "," +
+           std::to_string(a->rotation_rad);
   }
   if (key == key_ && ready()) return false;
   std::optional<EyeGeometry> next[2];

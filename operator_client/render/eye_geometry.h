@@ -6,8 +6,8 @@
 // is an exact pinhole drawing: straight 3D edges stay straight) and shifted by the eye's stereo
 // alignment offset (thesis 9.1). A laser point p is then displayed at display.ProjectUndistorted
 // (p) and its content is at image.Project(p) in the camera image; the two models differ only in
-// the principal point (display = image + offset), so the image shader, the overlay and NED agree
-// by construction.
+// the principal point (display = image + offset) and the roll (display = image + rotation), so
+// the image shader, the overlay and NED agree by construction.
 //
 // Which of the two the calibration describes is the alignment model:
 // - kSharedModel (thesis 9.1): focal length, y, z and tilt are shared by both eyes and only x
@@ -28,11 +28,14 @@
 namespace mostar::render {
 
 // Stereo alignment of one eye (thesis 9.1): its image is shifted by (offset_x_px, offset_y_px)
-// pixels (+x right, +y down); the borders with no correspondence in the other eye are cropped
-// (drawn black), in pixels of the displayed image.
+// pixels (+x right, +y down) and turned by rotation_rad about its principal point, as a camera
+// roll would turn it (the calibration's roll convention: a camera rolled by r is aligned with
+// the other eye by -r); the borders with no correspondence in the other eye are cropped (drawn
+// black), in pixels of the displayed image (corners a rotation uncovers are black too).
 struct EyeAlignment {
   float offset_x_px = 0.f;
   float offset_y_px = 0.f;
+  float rotation_rad = 0.f;
   float crop_left_px = 0.f;
   float crop_right_px = 0.f;
   float crop_top_px = 0.f;
@@ -86,10 +89,12 @@ class StereoGeometry {
 };
 
 // What the image shader needs: for a displayed pixel q, the camera-image pixel it shows is
-//   image_c + f * Distort((q - display_c) / f)   (per axis f = fx or fy, c = (cx, cy)),
-// which with no distortion is q - offset.
+//   image_c + f * Distort(R (q - display_c) / f)   (per axis f = fx or fy, c = (cx, cy)),
+// R the rotation by the display's roll minus the image's ([cos -sin; sin cos]); with no
+// distortion and no rotation that is q - offset.
 struct ImageWarp {
   float fx = 1.f, fy = 1.f;
+  float rotation_cos = 1.f, rotation_sin = 0.f;
   float display_cx = 0.f, display_cy = 0.f;
   float image_cx = 0.f, image_cy = 0.f;
   float k1 = 0.f, k2 = 0.f, p1 = 0.f, p2 = 0.f, k3 = 0.f;

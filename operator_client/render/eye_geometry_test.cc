@@ -20,31 +20,39 @@ math::LaserCameraCalibration Distorted() {
 }
 
 EyeGeometry Make(const math::LaserCameraCalibration& c, math::Eye eye, float dx, float dy,
-                 AlignmentModel model) {
+                 AlignmentModel model, float rotation_rad = 0.f) {
   EyeAlignment alignment;
   alignment.offset_x_px = dx;
   alignment.offset_y_px = dy;
+  alignment.rotation_rad = rotation_rad;
   std::string error;
   const std::optional<EyeGeometry> g = MakeEyeGeometry(c, eye, alignment, model, &error);
   EXPECT_TRUE(g.has_value()) << error;
   return *g;
 }
 
-// The displayed pixel of a laser point shows what the camera image has at image.Project().
+// The displayed pixel of a laser point shows what the camera image has at image.Project(), with
+// and without a rotation (the calibration itself rolled, too).
 TEST(EyeGeometryTest, DisplayedPixelShowsTheImageModelsProjection) {
+  math::LaserCameraCalibration rolled = Distorted();
+  rolled.roll_rad = 0.01;
+  rolled.focal_y_px = 445;
   for (const AlignmentModel model :
        {AlignmentModel::kSharedModel, AlignmentModel::kPerEyeIntrinsics}) {
     for (const math::Eye eye : {math::Eye::kLeft, math::Eye::kRight}) {
-      const EyeGeometry g = Make(Distorted(), eye, 3.5f, -5.f, model);
-      const ImageWarp warp = MakeImageWarp(g);
-      for (double x = 1.0; x <= 6.0; x += 1.0) {
-        for (double y = -2.0; y <= 2.0; y += 0.5) {
-          const Eigen::Vector3d p(x, y, -0.4);
-          const auto shown = g.display.ProjectUndistorted(p);
-          const auto seen = g.image.Project(p);
-          if (!shown || !seen || !g.image.IsInImage(*seen)) continue;
-          EXPECT_LT((WarpToImage(warp, *shown) - *seen).norm(), 1e-3)
-              << AlignmentModelName(model) << " " << x << " " << y;
+      for (const float rotation : {0.f, -0.03f}) {
+        const EyeGeometry g =
+            Make(rotation == 0.f ? Distorted() : rolled, eye, 3.5f, -5.f, model, rotation);
+        const ImageWarp warp = MakeImageWarp(g);
+        for (double x = 1.0; x <= 6.0; x += 1.0) {
+          for (double y = -2.0; y <= 2.0; y += 0.5) {
+            const Eigen::Vector3d p(x, y, -0.4);
+            const auto shown = g.display.ProjectUndistorted(p);
+            const auto seen = g.image.Project(p);
+            if (!shown || !seen || !g.image.IsInImage(*seen)) continue;
+            EXPECT_LT((WarpToImage(warp, *shown) - *seen).norm(), 1e-3)
+                << AlignmentModelName(model) << " " << x << " " << y << " " << rotation;
+          }
         }
       }
     }
@@ -58,6 +66,11 @@ TEST(EyeGeometryTest, SharedModelKeepsTheOverlayAndMovesTheImageModel) {
   EXPECT_DOUBLE_EQ(g.display.calibration().cy(), c.cy());
   EXPECT_DOUBLE_EQ(g.image.calibration().cx(), c.cx() - 2.0);
   EXPECT_DOUBLE_EQ(g.image.calibration().cy(), c.cy() + 5.0);
+  const EyeGeometry turned =
+      Make(c, math::Eye::kRight, 0.f, 0.f, AlignmentModel::kSharedModel, -0.02f);
+  EXPECT_DOUBLE_EQ(turned.display.calibration().roll_rad, c.roll_rad);
+  EXPECT_NEAR(turned.image.calibration().roll_rad, c.roll_rad + 0.02, 1e-7)
+      << "a right camera rolled 0.02 rad is aligned by -0.02";
 }
 
 TEST(EyeGeometryTest, PerEyeIntrinsicsMoveTheOverlayWithTheImage) {
@@ -67,6 +80,10 @@ TEST(EyeGeometryTest, PerEyeIntrinsicsMoveTheOverlayWithTheImage) {
   EXPECT_DOUBLE_EQ(g.image.calibration().cy(), c.cy());
   EXPECT_DOUBLE_EQ(g.display.calibration().cx(), c.cx() + 2.0);
   EXPECT_DOUBLE_EQ(g.display.calibration().cy(), c.cy() - 5.0);
+  const EyeGeometry turned =
+      Make(c, math::Eye::kRight, 0.f, 0.f, AlignmentModel::kPerEyeIntrinsics, -0.02f);
+  EXPECT_DOUBLE_EQ(turned.image.calibration().roll_rad, c.roll_rad);
+  EXPECT_NEAR(turned.display.calibration().roll_rad, c.roll_rad - 0.02, 1e-7);
 }
 
 TEST(EyeGeometryTest, WithoutDistortionTheWarpIsTheOffset) {
@@ -82,7 +99,7 @@ TEST(EyeGeometryTest, RefusesAnOffsetThatLeavesTheImage) {
   std::string error;
   EXPECT_FALSE(MakeEyeGeometry(math::LaserCameraCalibration{}, math::Eye::kRight, alignment,
                                AlignmentModel::kSharedModel, &error));
-  EXPECT_NE(error.find("stereo offset"), std::string::npos) << error;
+  EXPECT_NE(error.find("stereo alignment"), std::string::npos) << error;
 }
 
 TEST(EyeGeometryTest, CropKeepsWhatBothEyesShow) {
@@ -118,10 +135,12 @@ TEST(EyeGeometryTest, SuggestedOffsetCancelsTheResidualInBothModels) {
 TEST(EyeGeometryTest, ProfileRoundTrip) {
   EyeAlignment left, right;
   CropForRightOffset(1.5f, -5.f, &left, &right);
+  right.rotation_rad = -0.0175f;
   const math::StereoAlignmentProfile profile =
       ToProfile(AlignmentModel::kPerEyeIntrinsics, left, right);
   EXPECT_TRUE(profile.per_eye_intrinsics);
   EXPECT_EQ(profile.right_offset_y_px, -5.0);
+  EXPECT_EQ(profile.right_rotation_rad, static_cast<double>(-0.0175f));
   AlignmentModel model = AlignmentModel::kSharedModel;
   EyeAlignment left_back, right_back;
   FromProfile(profile, &model, &left_back, &right_back);
@@ -136,6 +155,7 @@ TEST(EyeGeometryTest, LoadsTheAlignmentSavedInAProfileAndNothingFromAMissingFile
   const std::string path = std::string(dir) + "/profile.pbtxt";
   EyeAlignment left, right;
   CropForRightOffset(0.f, -4.f, &left, &right);
+  right.rotation_rad = static_cast<float>(-1.0 * M_PI / 180.0);  // saved as -1 degree
   std::string error;
   ASSERT_TRUE(math::SaveCalibrationProfile(
       path, Distorted(), ToProfile(AlignmentModel::kPerEyeIntrinsics, left, right), "test", &error))
@@ -144,6 +164,8 @@ TEST(EyeGeometryTest, LoadsTheAlignmentSavedInAProfileAndNothingFromAMissingFile
   EyeAlignment left_back, right_back;
   ASSERT_TRUE(LoadAlignment(path, &model, &left_back, &right_back, &error)) << error;
   EXPECT_EQ(model, AlignmentModel::kPerEyeIntrinsics);
+  EXPECT_NEAR(right_back.rotation_rad, right.rotation_rad, 1e-7);
+  right_back.rotation_rad = right.rotation_rad;  // float through degrees and back
   EXPECT_TRUE(right_back == right);
   EyeAlignment untouched;
   untouched.offset_y_px = 7;

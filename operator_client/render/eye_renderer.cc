@@ -13,13 +13,14 @@ void main() {
 )";
 
 // Each displayed pixel q (u right, v down, pixel centres at integers) shows the camera-image
-// pixel image_c + f * Distort((q - display_c) / f): eye_geometry.h, WarpToImage. Texture row 0 is
+// pixel image_c + f * Distort(R (q - display_c) / f): eye_geometry.h, WarpToImage. Texture row 0 is
 // the image's top row. Outside the camera image: black.
 constexpr const char* kImageFragment = R"(#version 330 core
 uniform sampler2D u_image;
 uniform int u_has_image;
 uniform vec2 u_size;  // framebuffer = image size, px
 uniform vec2 u_focal;
+uniform vec2 u_rotation;  // cos, sin
 uniform vec2 u_display_c;
 uniform vec2 u_image_c;
 uniform vec3 u_radial;      // k1, k2, k3
@@ -31,7 +32,8 @@ void main() {
     return;
   }
   vec2 q = vec2(gl_FragCoord.x - 0.5, u_size.y - 0.5 - gl_FragCoord.y);
-  vec2 n = (q - u_display_c) / u_focal;
+  vec2 m = (q - u_display_c) / u_focal;
+  vec2 n = vec2(u_rotation.x * m.x - u_rotation.y * m.y, u_rotation.y * m.x + u_rotation.x * m.y);
   float r2 = dot(n, n);
   float radial = 1.0 + r2 * (u_radial.x + r2 * (u_radial.y + r2 * u_radial.z));
   float p1 = u_tangential.x;
@@ -163,6 +165,7 @@ void EyeRenderer::Render(const cv::Mat& image, const EyeView& view, const Overla
   glUniform2f(image_program_.Uniform("u_size"), static_cast<float>(width),
               static_cast<float>(height));
   glUniform2f(image_program_.Uniform("u_focal"), w.fx, w.fy);
+  glUniform2f(image_program_.Uniform("u_rotation"), w.rotation_cos, w.rotation_sin);
   glUniform2f(image_program_.Uniform("u_display_c"), w.display_cx, w.display_cy);
   glUniform2f(image_program_.Uniform("u_image_c"), w.image_cx, w.image_cy);
   glUniform3f(image_program_.Uniform("u_radial"), w.k1, w.k2, w.k3);

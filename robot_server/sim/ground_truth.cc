@@ -6,8 +6,16 @@ namespace mostar::sim {
 
 std::array<double, 12> LaserCameraCalibration::CameraFromLaser(Eye eye) const {
   const double c = std::cos(tilt_rad), s = std::sin(tilt_rad);
-  // Rows: the camera axes expressed in the laser frame.
-  const double r[3][3] = {{0, -1, 0}, {-s, 0, -c}, {c, 0, -s}};
+  // Rows: the camera axes expressed in the laser frame, for the unrolled camera; then turned by
+  // the roll about the optical axis (the rolled x and y axes: p_camera = RotZ(-roll) p_unrolled).
+  const double u[3][3] = {{0, -1, 0}, {-s, 0, -c}, {c, 0, -s}};
+  const double cr = std::cos(Roll(eye)), sr = std::sin(Roll(eye));
+  double r[3][3];
+  for (int j = 0; j < 3; ++j) {
+    r[0][j] = cr * u[0][j] + sr * u[1][j];
+    r[1][j] = -sr * u[0][j] + cr * u[1][j];
+    r[2][j] = u[2][j];
+  }
   const double p[3] = {camera_x_m, EyeYm(eye), camera_z_m};
   std::array<double, 12> m{};
   for (int i = 0; i < 3; ++i) {

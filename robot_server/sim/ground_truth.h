@@ -26,8 +26,11 @@ struct LaserCameraCalibration {
   double cx_px = 319.5;        // principal point, both eyes
   double cy_px = 239.5;        // left eye
   double right_cy_px = 239.5;  // right eye (differs by the vertical misalignment)
-  double k1 = 0, k2 = 0;       // radial distortion: x_d = x (1 + k1 r^2 + k2 r^4)
-  double camera_x_m = -0.20;   // centre of the stereo pair, laser frame
+  // Right eye only: rotation about its optical axis, positive = rolled clockwise seen from
+  // behind (the image content turns counter-clockwise), as common/math's roll_rad.
+  double right_roll_rad = 0.0;
+  double k1 = 0, k2 = 0;      // radial distortion: x_d = x (1 + k1 r^2 + k2 r^4)
+  double camera_x_m = -0.20;  // centre of the stereo pair, laser frame
   double camera_y_m = 0.0;
   double camera_z_m = 0.60;
   double tilt_rad = 0.21;    // rotation about the camera x axis; positive looks down
@@ -35,6 +38,7 @@ struct LaserCameraCalibration {
 
   double EyeYm(Eye eye) const { return camera_y_m + (eye == Eye::kLeft ? 0.5 : -0.5) * baseline_m; }
   double Cy(Eye eye) const { return eye == Eye::kLeft ? cy_px : right_cy_px; }
+  double Roll(Eye eye) const { return eye == Eye::kLeft ? 0.0 : right_roll_rad; }
   // camera_from_laser as a row-major 3x4 matrix [R | t]: p_camera = R p_laser + t.
   std::array<double, 12> CameraFromLaser(Eye eye) const;
 };

@@ -46,6 +46,7 @@ CameraParams CameraParams::FromProto(const proto::CameraConfig& c) {
   k.cx_px = c.cx_px() >= 0 ? c.cx_px() : (c.width_px() - 1) / 2.0;
   k.cy_px = c.cy_px() >= 0 ? c.cy_px() : (c.height_px() - 1) / 2.0;
   k.right_cy_px = k.cy_px + c.right_vertical_offset_px();
+  k.right_roll_rad = c.right_roll_deg() * M_PI / 180.0;
   k.k1 = c.k1();
   k.k2 = c.k2();
   k.camera_x_m = c.x_m();
@@ -95,6 +96,7 @@ void StereoRenderer::BuildTables(Eye eye, EyeTables* t) const {
   std::vector<double> azimuth(n);
   const double ct = std::cos(k.tilt_rad), st = std::sin(k.tilt_rad);
   const double cy = k.Cy(eye);
+  const double roll_cos = std::cos(k.Roll(eye)), roll_sin = std::sin(k.Roll(eye));
   const double gain = eye == Eye::kLeft ? params_.left_gain : params_.right_gain;
   const double ceiling_m = world_.ceiling_height_m();
   double az_min = 1e9, az_max = -1e9;
@@ -109,8 +111,10 @@ void StereoRenderer::BuildTables(Eye eye, EyeTables* t) const {
         xn = xd / d;
         yn = yd / d;
       }
-      // Ray (xn, yn, 1) in the camera frame, expressed in the base frame.
-      const double bx = ct - yn * st, by = -xn, bz = -st - yn * ct;
+      // Ray (xn, yn, 1) in the camera frame, turned into the unrolled camera's frame
+      // (p_unrolled = RotZ(roll) p_camera), expressed in the base frame.
+      const double xu = roll_cos * xn - roll_sin * yn, yu = roll_sin * xn + roll_cos * yn;
+      const double bx = ct - yu * st, by = -xu, bz = -st - yu * ct;
       const double horiz = std::hypot(bx, by);
       const size_t i = static_cast<size_t>(v) * w + u;
       PixelRay& ray = t->rays[i];

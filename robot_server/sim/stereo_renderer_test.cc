@@ -115,6 +115,32 @@ TEST_F(RendererFixture, RightEyeVerticalOffsetMovesItsImageDown) {
   EXPECT_NEAR(renderer_->params().calibration.right_cy_px, 242.5, 1e-12);
 }
 
+// A right camera rolled 1 degree clockwise (seen from behind): its image turns counter-clockwise,
+// so a level wall base rises to the right, 5 px over the 280 px from the centre to column 600;
+// the rendered base follows the ground-truth projection, and the left eye is level.
+TEST_F(RendererFixture, RightEyeRollTurnsItsImage) {
+  proto::SimConfig config = NoiselessConfig();
+  config.mutable_camera()->set_right_roll_deg(1.0);
+  Build("wall { x0_m: 4 y0_m: -20 x1_m: 4 y1_m: 20 }", config);
+  StereoImages images;
+  renderer_->Render(Pose2D{}, 0, true, &images);
+  const LaserCameraCalibration& k = renderer_->params().calibration;
+  EXPECT_NEAR(k.right_roll_rad, M_PI / 180.0, 1e-12);
+  EXPECT_EQ(images.left_truth.base_row_px[40], images.left_truth.base_row_px[600]);
+  const int rise = images.right_truth.base_row_px[40] - images.right_truth.base_row_px[600];
+  EXPECT_NEAR(rise, 560 * std::tan(M_PI / 180.0), 1.0);
+  // The right image's base row where the ground truth projects points of the wall base (laser
+  // frame: 4 m ahead, the floor 0.35 m below the laser).
+  for (const double y_m : {-1.5, 0.0, 1.5}) {
+    double u = 0, v = 0;
+    ASSERT_TRUE(ProjectLaserPoint(k, Eye::kRight, 4.0, y_m, -0.35, &u, &v));
+    const int column = static_cast<int>(std::lround(u));
+    ASSERT_GE(column, 0);
+    ASSERT_LT(column, 640);
+    EXPECT_NEAR(images.right_truth.base_row_px[column], v, 1.5) << "y " << y_m;
+  }
+}
+
 TEST_F(RendererFixture, ArtifactAppearsInOneEyeOnly) {
   proto::SimConfig config = NoiselessConfig();
   auto* a = config.mutable_camera()->mutable_artifact();

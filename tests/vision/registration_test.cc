@@ -56,8 +56,11 @@ struct Scenario {
   double k1 = -0.28;
   double right_low_px = 0.0;  // the simulator's right camera principal point moved down
   render::AlignmentModel model = render::AlignmentModel::kSharedModel;
-  float right_offset_y_px = 0.f;  // the operator's vertical alignment of the right image
-  bool former_drawing = false;    // the image shown as received (no undistortion): a control
+  float right_offset_y_px = 0.f;   // the operator's vertical alignment of the right image
+  bool former_drawing = false;     // the image shown as received (no undistortion): a control
+  double right_roll_deg = 0.0;     // the simulator's right camera rolled
+  float right_rotation_deg = 0.f;  // the operator's rotation of the right image
+  bool unaligned_control = false;  // the roll left unaligned: a control
 };
 
 struct EyeErrors {
@@ -140,6 +143,7 @@ class RegistrationTest : public ::testing::Test {
     sim::proto::SimConfig config;
     config.mutable_camera()->set_k1(s.k1);
     config.mutable_camera()->set_right_vertical_offset_px(s.right_low_px);
+    config.mutable_camera()->set_right_roll_deg(s.right_roll_deg);
     auto world = sim::SimWorld::Create(scene, config, kStart, &error);
     EXPECT_NE(world, nullptr) << error;
     return world;
@@ -186,7 +190,10 @@ class RegistrationTest : public ::testing::Test {
     const sim::LaserCameraCalibration& truth = world.calibration();
     const double h = world.laser_params().height_m;
     render::EyeAlignment alignment;
-    if (eye == Eye::kRight) alignment.offset_y_px = s.right_offset_y_px;
+    if (eye == Eye::kRight) {
+      alignment.offset_y_px = s.right_offset_y_px;
+      alignment.rotation_rad = static_cast<float>(s.right_rotation_deg * M_PI / 180.0);
+    }
     std::string error;
     const std::optional<render::EyeGeometry> geometry = render::MakeEyeGeometry(
         ClientCalibration(s, truth, eye, h), eye, alignment, s.model, &error);
@@ -321,10 +328,18 @@ TEST_F(RegistrationTest, OverlaySitsOnTheImageWithLensDistortionAndStereoOffset)
        render::AlignmentModel::kSharedModel, -5.f},
       {"k1 -0.28, right 5 px low, per-eye intrinsics, dy -5", -0.28, 5.0,
        render::AlignmentModel::kPerEyeIntrinsics, -5.f},
-      // Control: the same measurement sees the former drawing's error (capped at the search
-      // radius, kSearchPx).
+      // The right camera also rolled 1 degree, aligned by rotating its image -1 degree; with
+      // per-eye intrinsics its calibration knows the roll (as a stereo calibration gives it).
+      {"k1 -0.28, right 5 px low and rolled 1 deg, shared model, dy -5, rotation -1 deg", -0.28,
+       5.0, render::AlignmentModel::kSharedModel, -5.f, false, 1.0, -1.f},
+      {"k1 -0.28, right 5 px low and rolled 1 deg, per-eye intrinsics, dy -5, rotation -1 deg",
+       -0.28, 5.0, render::AlignmentModel::kPerEyeIntrinsics, -5.f, false, 1.0, -1.f},
+      // Controls: the same measurement sees the former drawing's error (capped at the search
+      // radius, kSearchPx), and a roll left unaligned.
       {"control: k1 -0.28, image not undistorted", -0.28, 0.0, render::AlignmentModel::kSharedModel,
        0.f, true},
+      {"control: right 5 px low and rolled 1 deg, shared model, dy -5, no rotation", -0.28, 5.0,
+       render::AlignmentModel::kSharedModel, -5.f, false, 1.0, 0.f, true},
   };
   std::printf(
       "| scenario | eye | wall bases p50 / p95 px (n) | circle points p50 / p95 px (n) |\n"
@@ -337,7 +352,7 @@ TEST_F(RegistrationTest, OverlaySitsOnTheImageWithLensDistortionAndStereoOffset)
     EyeErrors eyes[2];
     for (int e = 0; e < 2; ++e) {
       const Eye eye = e == 0 ? Eye::kLeft : Eye::kRight;
-      const bool nominal = s.right_low_px == 0.0 && !s.former_drawing;
+      const bool nominal = s.right_low_px == 0.0 && !s.former_drawing && s.right_roll_deg == 0.0;
       eyes[e] = Measure(s, *world, eye, points, nominal ? &before : nullptr);
       const EyeErrors& m = eyes[e];
       std::printf("| %s | %s | %.2f / %.2f (%zu) | %.2f / %.2f (%zu) |\n", s.name.c_str(),
@@ -348,6 +363,10 @@ TEST_F(RegistrationTest, OverlaySitsOnTheImageWithLensDistortionAndStereoOffset)
       if (s.former_drawing) {
         EXPECT_GT(P(m.wall_px, 0.95), 5.0) << s.name << ", " << EyeName(eye);
         EXPECT_GT(P(m.circle_px, 0.95), 5.0) << s.name << ", " << EyeName(eye);
+        continue;
+      }
+      if (s.unaligned_control && eye == Eye::kRight) {
+        EXPECT_GT(P(m.wall_px, 0.95), 2.0) << s.name;  // 1 degree is 4.9 px 280 px off centre
         continue;
       }
       EXPECT_LE(P(m.wall_px, 0.95), 0.5) << s.name << ", " << EyeName(eye);
@@ -372,6 +391,10 @@ TEST_F(RegistrationTest, OverlaySitsOnTheImageWithLensDistortionAndStereoOffset)
                 s.name.c_str(), P(between, 0.5), P(between, 0.95), between.size());
     if (s.former_drawing) continue;
     ASSERT_GT(between.size(), 50u);
+    if (s.unaligned_control) {
+      EXPECT_GT(P(between, 0.95), 2.0) << s.name;
+      continue;
+    }
     EXPECT_LE(P(between, 0.95), 1.0) << s.name;
   }
 }

@@ -22,6 +22,7 @@ math::LaserCameraCalibration MathCalibrationFromSim(const sim::LaserCameraCalibr
   c.camera_y_m = sim.camera_z_m;   // above the scan plane = laser z
   c.camera_z_m = sim.camera_x_m;   // ahead = laser x
   c.tilt_rad = sim.tilt_rad;
+  c.roll_rad = sim.Roll(eye);
   c.left_eye_x_offset_m = -0.5 * sim.baseline_m;
   c.right_eye_x_offset_m = 0.5 * sim.baseline_m;
   c.laser_height_m = laser_height_m;

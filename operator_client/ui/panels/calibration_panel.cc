@@ -111,7 +111,7 @@ void DrawStereoAlignment(const CalibrationPanelTargets& edit,
                          const std::optional<StereoOffsetHint>& hint) {
   render::EyeAlignment* left = edit.left_alignment;
   render::EyeAlignment* right = edit.right_alignment;
-  ImGui::TextUnformatted("Right eye image offset, px:");
+  ImGui::TextUnformatted("Right eye image offset (px) and rotation:");
   int model = *edit.alignment_model == render::AlignmentModel::kPerEyeIntrinsics ? 1 : 0;
   const char* models[] = {"shared parameters (thesis)", "per-eye intrinsics"};
   if (ImGui::Combo("model", &model, models, 2)) {
@@ -128,6 +128,15 @@ void DrawStereoAlignment(const CalibrationPanelTargets& edit,
   float dy = right->offset_y_px;
   ImGui::SliderFloat("dx", &dx, -40, 40, "%.1f");
   ImGui::SliderFloat("dy", &dy, -40, 40, "%.1f");
+  float rotation_deg = static_cast<float>(right->rotation_rad * kRadToDeg);
+  if (ImGui::SliderFloat("rotation [deg]", &rotation_deg, -5, 5, "%.2f")) {
+    right->rotation_rad = static_cast<float>(rotation_deg / kRadToDeg);
+  }
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip(
+        "Turns the right image about its centre: a right camera rolled by r is "
+        "aligned by -r.");
+  }
   if (hint) {
     ImGui::Text("NESC: right image %.1f px %s (spread %.1f px, %d edges): dy %.1f",
                 std::abs(hint->residual_px), hint->residual_px > 0 ? "low" : "high",
