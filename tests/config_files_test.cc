@@ -143,6 +143,7 @@ TEST(ShippedConfigTest, ThesisClientTurnsEveryExtensionOff) {
                calibration.focal_y_px.has_value());
   const vision::VisionOptions v = vision::FromProto(c.vision());
   ASSERT_TRUE(v.IsValid(&error)) << error;
+  EXPECT_FALSE(v.edges.colour_edges);
   EXPECT_EQ(v.nearest_edge.base_search_m, 0.0);
   EXPECT_EQ(v.nearest_edge.min_step_grey, 0);
   EXPECT_EQ(v.nearest_edge.min_crossing_angle_deg, 0.0);

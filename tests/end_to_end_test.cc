@@ -199,6 +199,11 @@ TEST_F(EndToEndTest, SonarSectorsShowTheGlassDoorTheLaserSeesThrough) {
        Source("deploy/config/server_sim.pbtxt"), "--sim", Source("deploy/scenes/glass_door.pbtxt")},
       dir_ + "/server.log", &error))
       << error;
+  // The captured pair waits at most 2 s for its scan (PairCapture::kScanWait); under load the
+  // emulated LMS200's baud switch alone can take longer, so the client starts once it streams.
+  ASSERT_TRUE(testing::WaitForText(dir_ + "/server.log", "streaming at", std::chrono::seconds(60)))
+      << "the LMS200 never streamed:\n"
+      << testing::ReadFile(dir_ + "/server.log");
   Subprocess client;
   // Edge processing off: its magenta dots would count as sonar outlines.
   const std::string config = dir_ + "/client.pbtxt";

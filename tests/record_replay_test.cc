@@ -283,8 +283,13 @@ TEST_F(RecordReplayTest, ReplayRendersTheSamePictureAsLive) {
          Source("deploy/config/server_sim.pbtxt"), "--record", recording, "--duration", "60"},
         dir_ + "/live_robot.log", &error))
         << error;
+    // The captured pair waits at most 2 s for its scan (PairCapture::kScanWait); the emulated
+    // LMS200 starts at 9600 Bd and switches, which under load takes longer: start the client
+    // once it streams.
+    ASSERT_TRUE(
+        testing::WaitForText(dir_ + "/live_robot.log", "streaming at", std::chrono::seconds(50)))
+        << testing::ReadFile(dir_ + "/live_robot.log");
     Subprocess client;
-    // 60 pairs: the LMS200 emulator streams by then (it starts at 9600 Bd, then switches).
     ASSERT_TRUE(client.Start(
         {Bin("operator_client/operator_client"), "--headless", "--domain", domain_, "--config",
          client_config, "--role", "observer", "--id", "observer", "--capture-after", "60",

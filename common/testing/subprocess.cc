@@ -118,6 +118,16 @@ std::string ReadFile(const std::string& path) {
   return out.str();
 }
 
+bool WaitForText(const std::string& path, const std::string& text,
+                 std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    if (ReadFile(path).find(text) != std::string::npos) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
 namespace {
 
 std::mutex temp_dirs_mutex;

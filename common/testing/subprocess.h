@@ -42,6 +42,10 @@ class Subprocess {
 
 // Reads a whole file ("" when missing).
 std::string ReadFile(const std::string& path);
+// Waits until the file at `path` contains `text` (checked every 50 ms), at most `timeout`; true
+// when it does. For a process's log line that says it is ready.
+bool WaitForText(const std::string& path, const std::string& text,
+                 std::chrono::milliseconds timeout);
 // A fresh directory `prefix` + six random characters under $TMPDIR (default /tmp); "" when it
 // cannot be made. When the test program ends normally with every test passed it is removed with
 // its contents; otherwise it is kept for inspection and its path printed on stderr.

@@ -71,6 +71,31 @@ TEST(EdgeDetectorTest, FindsAStepAndNothingInFlatAreas) {
   EXPECT_EQ(cv::countNonZero(out.edges.rowRange(65, 120)), 0);
 }
 
+// The open room's brown crate on its grey-blue floor: nearly the same grey (136 and 144), a
+// different colour. Grey edges alone find nothing; colour edges find the boundary, and a grey
+// image has no colour to add.
+TEST(EdgeDetectorTest, ColourEdgesFindABaseAsGreyAsTheFloor) {
+  cv::Mat image(120, 160, CV_8UC3, cv::Scalar(150, 146, 140));  // BGR: the floor
+  image.rowRange(0, 60).setTo(cv::Scalar(80, 130, 170));        // the crate
+  EdgeDetectorOptions grey_only;
+  grey_only.colour_edges = false;
+  EdgeImages out;
+  std::string error;
+  ASSERT_TRUE(EdgeDetector(grey_only).Detect(image, &out, &error)) << error;
+  EXPECT_EQ(cv::countNonZero(out.edges), 0);
+  ASSERT_TRUE(EdgeDetector(EdgeDetectorOptions{}).Detect(image, &out, &error)) << error;
+  for (int col = 5; col < 155; ++col) {
+    const int hits = (out.edges.at<uint8_t>(59, col) != 0) + (out.edges.at<uint8_t>(60, col) != 0);
+    EXPECT_GE(hits, 1) << "column " << col;
+  }
+  EXPECT_EQ(cv::countNonZero(out.edges.rowRange(0, 55)), 0);
+  EXPECT_EQ(cv::countNonZero(out.edges.rowRange(65, 120)), 0);
+  cv::Mat grey;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  ASSERT_TRUE(EdgeDetector(EdgeDetectorOptions{}).Detect(grey, &out, &error)) << error;
+  EXPECT_EQ(cv::countNonZero(out.edges), 0);
+}
+
 TEST(EdgeDetectorTest, StretchingSuppressesAFaintPatternAboveHighThreshold) {
   // A bright floor with tiles of grey 200 and 240, both above highTh.
   cv::Mat grey(100, 100, CV_8UC1, cv::Scalar(200));

@@ -30,6 +30,7 @@ proto::VisionConfig ToProto(const VisionOptions& options) {
   edges->set_canny_threshold2(options.edges.canny_threshold2);
   edges->set_canny_aperture_px(options.edges.canny_aperture_px);
   edges->set_l2_gradient(options.edges.l2_gradient);
+  edges->set_colour_edges(options.edges.colour_edges);
   proto::NearestEdgeConfig* ned = config.mutable_nearest_edge();
   ned->set_max_range_m(options.nearest_edge.max_range_m);
   ned->set_step_px(options.nearest_edge.step_px);
@@ -58,6 +59,7 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
   options.edges.canny_threshold2 = edges.canny_threshold2();
   options.edges.canny_aperture_px = edges.canny_aperture_px();
   options.edges.l2_gradient = edges.l2_gradient();
+  options.edges.colour_edges = edges.colour_edges();
   const proto::NearestEdgeConfig& ned = config.nearest_edge();
   options.nearest_edge.max_range_m = ned.max_range_m();
   options.nearest_edge.step_px = ned.step_px();

@@ -32,6 +32,10 @@ std::optional<VisionSettings> EdgeViewPanel::Draw(const vision::VisionResult* re
   changed |= ImGui::SliderFloat("th2", &th2, 0, 800, "%.0f");
   e.canny_threshold1 = th1;
   e.canny_threshold2 = th2;
+  changed |= ImGui::Checkbox("colour edges", &e.colour_edges);
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("Also edges of colour (R - G, (R + G) / 2 - B): bases as grey as the floor");
+  }
   std::string error;
   bool ok = true;
   if (changed) ok = edit.Set(options, &error);
