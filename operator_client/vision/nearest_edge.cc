@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/check/check.h"
+#include "common/stats/percentile.h"
 
 namespace mostar::vision {
 namespace {
@@ -68,6 +69,8 @@ bool NearestEdgeOptions::IsValid(std::string* error) const {
         << ", " << step_offset_px << ")";
   } else if (!(min_crossing_angle_deg >= 0.0 && min_crossing_angle_deg <= 85.0)) {
     why << "min_crossing_angle_deg must be in [0, 85] (got " << min_crossing_angle_deg << ")";
+  } else if (start_grey_deviation < 0 || start_grey_deviation > 255) {
+    why << "start_grey_deviation must be in [0, 255] (got " << start_grey_deviation << ")";
   } else if (bottom_margin_px < 0) {
     why << "bottom_margin_px must be >= 0 (got " << bottom_margin_px << ")";
   } else {
@@ -381,6 +384,40 @@ bool NearestEdgeFinder::Prepare(const std::shared_ptr<const math::CameraModel>& 
   return true;
 }
 
+namespace {
+
+// NearestEdgeOptions::start_grey_deviation over one image's NEPs: `rays[i]` is beam i's ray.
+void MarkRaysStartingOnObjects(const std::vector<const RayPixels*>& rays, const cv::Mat& grey,
+                               const NearestEdgeOptions& options, std::vector<Nep>* neps) {
+  if (options.start_grey_deviation <= 0 || grey.empty()) return;
+  constexpr size_t kStartPixels = 4;  // the mean grey of the ray's first pixels
+  const int bottom_row = grey.rows - 1 - options.bottom_margin_px;
+  std::vector<double> start(rays.size(), -1.0);
+  std::vector<double> starts;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const RayPixels& ray = *rays[i];
+    if (!ray.visible || ray.pixels.size() < kStartPixels ||
+        ray.pixels.front().row < bottom_row - 2) {
+      continue;  // not visible, or it enters the image elsewhere than at the bottom
+    }
+    double sum = 0.0;
+    for (size_t k = 0; k < kStartPixels; ++k) {
+      sum += grey.at<uint8_t>(ray.pixels[k].row, ray.pixels[k].col);
+    }
+    start[i] = sum / kStartPixels;
+    starts.push_back(start[i]);
+  }
+  if (starts.size() < static_cast<size_t>(NearestEdgeOptions::kMinStartRays)) return;
+  const double floor_grey = Percentile(starts, 0.5).value_or(0.0);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Nep& nep = (*neps)[i];
+    nep.starts_on_object = nep.found && start[i] >= 0.0 &&
+                           std::abs(start[i] - floor_grey) > options.start_grey_deviation;
+  }
+}
+
+}  // namespace
+
 bool NearestEdgeFinder::Find(const cv::Mat& edges,
                              const std::shared_ptr<const math::CameraModel>& camera,
                              const LaserScan& scan, NedResult* out, std::string* error,
@@ -401,6 +438,9 @@ bool NearestEdgeFinder::Find(const cv::Mat& edges,
     out->visible_rays += rays_[i].visible ? 1 : 0;
     out->found += out->neps[i].found ? 1 : 0;
   }
+  std::vector<const RayPixels*> rays;
+  for (const RayPixels& ray : rays_) rays.push_back(&ray);
+  MarkRaysStartingOnObjects(rays, grey, options_, &out->neps);
   return true;
 }
 
@@ -413,13 +453,17 @@ bool FindNearestEdges(const cv::Mat& edges, const math::CameraModel& camera, con
   out->found = 0;
   if (!CheckNedInput(edges, grey, camera, scan, options, error)) return false;
   const double laser_height_m = camera.calibration().laser_height_m;
+  std::vector<RayPixels> rays;
+  rays.reserve(scan.ranges_m.size());
   for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
-    const RayPixels ray = TraceRayPixels(camera, scan.AngleOf(i), options);
-    out->neps[i] = FindNearestEdgeOnPixels(edges, ray, options, laser_height_m, grey);
-    const bool visible = ray.visible;
-    out->visible_rays += visible ? 1 : 0;
+    rays.push_back(TraceRayPixels(camera, scan.AngleOf(i), options));
+    out->neps[i] = FindNearestEdgeOnPixels(edges, rays.back(), options, laser_height_m, grey);
+    out->visible_rays += rays.back().visible ? 1 : 0;
     out->found += out->neps[i].found ? 1 : 0;
   }
+  std::vector<const RayPixels*> ray_pointers;
+  for (const RayPixels& ray : rays) ray_pointers.push_back(&ray);
+  MarkRaysStartingOnObjects(ray_pointers, grey, options, &out->neps);
   return true;
 }
 

@@ -62,6 +62,14 @@ struct NearestEdgeOptions {
   // ray's image less steeply than this angle is marked Nep::along_ray. An edge with no gradient
   // crosses. Needs the grey image. 0 = off (the thesis).
   double min_crossing_angle_deg = 30.0;
+  // Start test, grey levels of the stretched image; in [0, 255]. The rays that enter the image
+  // at its bottom start on the floor near the robot, all of the same look. A ray whose first
+  // pixels there differ from the median of those rays by more than this starts on an object
+  // whose base is below the image: its first edge may be that object's top, far beyond its
+  // base, and its NEP is marked Nep::starts_on_object. Needs the grey image and at least
+  // kMinStartRays such rays. 0 = off (the thesis).
+  int start_grey_deviation = 80;
+  static constexpr int kMinStartRays = 9;
 
   bool IsValid(std::string* error) const;
 };
@@ -86,6 +94,10 @@ struct Nep {
   // something the ray passes beside or behind, not a base on this beam. It may agree with the
   // laser or be further, but never makes a possible-obstacle dot. NESC: set when either eye's is.
   bool along_ray = false;
+  // The ray starts on an object at the image bottom (NearestEdgeOptions::start_grey_deviation):
+  // the NEP may be that object's top edge, not a base. It may agree with the laser or be
+  // further, but never makes a possible-obstacle dot. NESC: set when either eye's is.
+  bool starts_on_object = false;
 };
 
 // NED over one image: neps[i] belongs to beam i of the scan.

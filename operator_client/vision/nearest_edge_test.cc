@@ -364,6 +364,43 @@ TEST(NearestEdgeTest, DirectionTestMarksASilhouetteAlongTheRay) {
   EXPECT_NEAR(base.distance_m, 3.0, 0.1);
 }
 
+// The rays entering the image at its bottom start on the floor (grey 200), but those starting on
+// a dark box there (grey 60, its base below the image) have their NEP on the line above marked:
+// with the finder and with the free function, and not at all when the test is off.
+TEST(NearestEdgeTest, StartTestMarksRaysStartingOnAnObjectAtTheImageBottom) {
+  const auto camera = std::make_shared<const math::CameraModel>(Calibration(), math::kMonoCamera);
+  const LaserScan scan = ScanWithBeams(181, 5.0f);
+  cv::Mat edges(480, 640, CV_8UC1, cv::Scalar(0));
+  edges.row(300).setTo(255);
+  cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(200));
+  grey(cv::Rect(280, 400, 80, 80)).setTo(60);
+  NearestEdgeOptions options;
+  options.min_crossing_angle_deg = 0.0;
+  options.start_grey_deviation = 80;
+  NearestEdgeFinder finder(options);
+  NedResult cached, direct, off;
+  std::string error;
+  ASSERT_TRUE(finder.Find(edges, camera, scan, &cached, &error, grey)) << error;
+  ASSERT_TRUE(FindNearestEdges(edges, *camera, scan, options, &direct, &error, grey)) << error;
+  NearestEdgeOptions disabled = options;
+  disabled.start_grey_deviation = 0;
+  ASSERT_TRUE(FindNearestEdges(edges, *camera, scan, disabled, &off, &error, grey)) << error;
+  int marked = 0, unmarked = 0;
+  for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    if (!cached.neps[i].found) continue;
+    const RayPixels ray = TraceRayPixels(*camera, scan.AngleOf(i), options);
+    ASSERT_FALSE(ray.pixels.empty());
+    const RayPixels::Pixel& first = ray.pixels.front();
+    const bool on_box = first.row >= 477 && first.col >= 281 && first.col <= 358;
+    EXPECT_EQ(cached.neps[i].starts_on_object, on_box) << "beam " << i;
+    EXPECT_EQ(direct.neps[i].starts_on_object, cached.neps[i].starts_on_object) << "beam " << i;
+    EXPECT_FALSE(off.neps[i].starts_on_object) << "beam " << i;
+    (cached.neps[i].starts_on_object ? marked : unmarked) += 1;
+  }
+  EXPECT_GE(marked, 3);
+  EXPECT_GT(unmarked, 20);
+}
+
 TEST(NearestEdgeTest, FinderReportsTheHighestRowItsRaysRead) {
   const auto camera = std::make_shared<const math::CameraModel>(Calibration(), math::kMonoCamera);
   const LaserScan scan = ScanWithBeams(181, 3.0f);

@@ -112,6 +112,9 @@ bool ClassifyNeps(const LaserScan& scan, const std::vector<Nep>& neps,
     } else if (relation == NepRelation::kNearer && nep.along_ray) {
       relation = NepRelation::kNone;  // a silhouette, not a base on this beam: no dot
       ++out->along_ray_ignored;
+    } else if (relation == NepRelation::kNearer && nep.starts_on_object) {
+      relation = NepRelation::kNone;  // an object's top edge, its base below the image: no dot
+      ++out->starts_on_object_ignored;
     }
     if (relation == NepRelation::kNearer && options.neighbour_beams > 0) {
       const size_t k = static_cast<size_t>(options.neighbour_beams);

@@ -75,13 +75,14 @@ struct NepClassification {
   // to the AR features instead of the raw scan.
   LaserScan corrected_scan;
   std::vector<PossibleObstacle> possible_obstacles;
-  int corrected = 0;           // beams with NepRelation::kAgrees
-  int nearer = 0;              // == possible_obstacles.size()
-  int further = 0;             // ignored NEPs
-  int neighbour = 0;           // NepRelation::kNeighbour
-  int isolated = 0;            // NepRelation::kIsolated
-  int unreliable_ignored = 0;  // unreliable NEPs that did not agree with the laser
-  int along_ray_ignored = 0;   // nearer NEPs along their ray (silhouettes, Nep::along_ray)
+  int corrected = 0;                 // beams with NepRelation::kAgrees
+  int nearer = 0;                    // == possible_obstacles.size()
+  int further = 0;                   // ignored NEPs
+  int neighbour = 0;                 // NepRelation::kNeighbour
+  int isolated = 0;                  // NepRelation::kIsolated
+  int unreliable_ignored = 0;        // unreliable NEPs that did not agree with the laser
+  int along_ray_ignored = 0;         // nearer NEPs along their ray (silhouettes, Nep::along_ray)
+  int starts_on_object_ignored = 0;  // nearer NEPs on rays starting on an object (its top)
   int confirmed_outliers = 0;
   int potential_outliers_kept = 0;  // potential outliers whose NEP agreed or that had none
 };

@@ -109,6 +109,7 @@ bool RunNesc(const NedResult& left, const NedResult& right, const LaserScan& sca
         selected.floor_point_laser = 0.5 * (l.floor_point_laser + r.floor_point_laser);
         selected.reliable = true;
         selected.along_ray = l.along_ray || r.along_ray;
+        selected.starts_on_object = l.starts_on_object || r.starts_on_object;
       } else {
         out->kinds[i] = StereoNepKind::kDisagree;
         ++out->disagree;

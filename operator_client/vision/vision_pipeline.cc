@@ -40,6 +40,7 @@ proto::VisionConfig ToProto(const VisionOptions& options) {
   ned->set_min_step_grey(options.nearest_edge.min_step_grey);
   ned->set_step_offset_px(options.nearest_edge.step_offset_px);
   ned->set_min_crossing_angle_deg(options.nearest_edge.min_crossing_angle_deg);
+  ned->set_start_grey_deviation(options.nearest_edge.start_grey_deviation);
   config.set_edge_threshold_m(options.classifier.edge_threshold_m);
   config.set_stereo_threshold_m(options.nesc.stereo_threshold_m);
   config.set_stereo(options.stereo);
@@ -69,6 +70,7 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
   options.nearest_edge.min_step_grey = ned.min_step_grey();
   options.nearest_edge.step_offset_px = ned.step_offset_px();
   options.nearest_edge.min_crossing_angle_deg = ned.min_crossing_angle_deg();
+  options.nearest_edge.start_grey_deviation = ned.start_grey_deviation();
   options.classifier.edge_threshold_m = config.edge_threshold_m();
   options.nesc.stereo_threshold_m = config.has_stereo_threshold_m()
                                         ? config.stereo_threshold_m()

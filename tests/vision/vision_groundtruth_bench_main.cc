@@ -280,10 +280,10 @@ int Run(int argc, char** argv) {
           const bool stray = distance->at<float>(static_cast<int>(nep.pixel.y()),
                                                  static_cast<int>(nep.pixel.x())) > 6.0f;
           const Nep& used = result.selected[i];
-          // Kept by NESC: used, whatever the direction test then made of it.
+          // Kept by NESC: used, whatever the direction and start tests then made of it.
           const bool survived =
               (result.classification.beams[i].relation != NepRelation::kNone ||
-               (used.reliable && used.along_ray)) &&
+               (used.reliable && (used.along_ray || used.starts_on_object))) &&
               used.found &&
               std::abs(used.distance_m - nep.distance_m) <= options.nesc.stereo_threshold_m;
           (stray ? c.stray : c.real) += 1;
