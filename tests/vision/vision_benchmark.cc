@@ -40,9 +40,12 @@ const Fixture& GetFixture() {
   return fixture;
 }
 
+// Argument: 1 = with colour edges (the default), 0 = grey edges only (the thesis).
 void BM_StereoPipeline(benchmark::State& state) {
   const Fixture& f = GetFixture();
-  VisionPipeline pipeline{VisionOptions{}};
+  VisionOptions options;
+  options.edges.colour_edges = state.range(0) != 0;
+  VisionPipeline pipeline{options};
   VisionResult result;
   for (auto _ : state) {
     pipeline.Process(f.input, &result);
@@ -51,7 +54,12 @@ void BM_StereoPipeline(benchmark::State& state) {
   if (!result.ok) state.SkipWithError(result.error.c_str());
   state.counters["neps"] = result.nesc.matched + result.nesc.one_eye + result.nesc.disagree;
 }
-BENCHMARK(BM_StereoPipeline)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StereoPipeline)
+    ->ArgName("colour_edges")
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_EdgeDetectorOneImage(benchmark::State& state) {
   const Fixture& f = GetFixture();
@@ -66,9 +74,12 @@ void BM_EdgeDetectorOneImage(benchmark::State& state) {
 BENCHMARK(BM_EdgeDetectorOneImage)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // What the pipeline runs: only the rows the virtual rays reach (below the horizon).
+// Argument: colour edges on (1) or off (0).
 void BM_EdgeDetectorFloorRows(benchmark::State& state) {
   const Fixture& f = GetFixture();
-  const EdgeDetector detector{EdgeDetectorOptions{}};
+  EdgeDetectorOptions options;
+  options.colour_edges = state.range(0) != 0;
+  const EdgeDetector detector{options};
   NearestEdgeFinder finder{NearestEdgeOptions{}};
   std::string error;
   if (!finder.Prepare(f.input.left_camera, f.input.scan, &error)) {
@@ -82,7 +93,12 @@ void BM_EdgeDetectorFloorRows(benchmark::State& state) {
   }
   state.counters["first_row"] = finder.top_row();
 }
-BENCHMARK(BM_EdgeDetectorFloorRows)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EdgeDetectorFloorRows)
+    ->ArgName("colour_edges")
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_NedOneImage(benchmark::State& state) {
   const Fixture& f = GetFixture();
