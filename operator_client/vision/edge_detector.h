@@ -1,6 +1,6 @@
 // Pre-processing of a camera image for nearest edges discovery (thesis 8.1): grey conversion,
 // contrast stretching between two grey thresholds, then Canny edge detection; beyond the thesis,
-// also Canny on two opponent-colour channels (colour_edges).
+// also Canny on the red-green opponent-colour channel (colour_edges).
 //
 // Threading: EdgeDetector is immutable after construction; Detect() is const and may be called
 // from several threads at once (each call writes only its own output).
@@ -25,8 +25,8 @@ struct EdgeDetectorOptions {
   // Sobel aperture of Canny: 3, 5 or 7.
   int canny_aperture_px = 3;
   bool l2_gradient = false;
-  // Also Canny on the opponent-colour channels R - G and (R + G) / 2 - B (offset to 128), the
-  // edges OR'ed with the grey ones; colour input only.
+  // Also Canny on the red-green opponent-colour channel R - G of the unstretched image, with the
+  // same thresholds, the edges OR'ed with the grey ones; colour input only.
   bool colour_edges = true;
 
   // True when every constraint above holds; otherwise false and `error` (if not null) names it.

@@ -34,7 +34,7 @@ std::optional<VisionSettings> EdgeViewPanel::Draw(const vision::VisionResult* re
   e.canny_threshold2 = th2;
   changed |= ImGui::Checkbox("colour edges", &e.colour_edges);
   if (ImGui::IsItemHovered()) {
-    ImGui::SetTooltip("Also edges of colour (R - G, (R + G) / 2 - B): bases as grey as the floor");
+    ImGui::SetTooltip("Also edges of colour (R - G): bases as grey as the floor");
   }
   std::string error;
   bool ok = true;
