@@ -134,7 +134,7 @@ void DrawStereoAlignment(const CalibrationPanelTargets& edit,
   }
   if (ImGui::IsItemHovered()) {
     ImGui::SetTooltip(
-        "Turns the right image about its centre: a right camera rolled by r is "
+        "Turns the right image about its principal point: a right camera rolled by r is "
         "aligned by -r.");
   }
   if (hint) {
