@@ -396,12 +396,15 @@ void MarkRaysStartingOnObjects(const std::vector<const RayPixels*>& rays, const 
   std::vector<double> starts;
   for (size_t i = 0; i < rays.size(); ++i) {
     const RayPixels& ray = *rays[i];
-    if (!ray.visible || ray.pixels.size() < kStartPixels ||
-        ray.pixels.front().row < bottom_row - 2) {
-      continue;  // not visible, or it enters the image elsewhere than at the bottom
+    if (!ray.visible) continue;
+    // The first pixels above the rows that show the robot (bottom_margin_px), as NED walks.
+    size_t first = 0;
+    while (first < ray.pixels.size() && ray.pixels[first].row > bottom_row) ++first;
+    if (ray.pixels.size() - first < kStartPixels || ray.pixels[first].row < bottom_row - 2) {
+      continue;  // too short, or it enters the image elsewhere than at the bottom
     }
     double sum = 0.0;
-    for (size_t k = 0; k < kStartPixels; ++k) {
+    for (size_t k = first; k < first + kStartPixels; ++k) {
       sum += grey.at<uint8_t>(ray.pixels[k].row, ray.pixels[k].col);
     }
     start[i] = sum / kStartPixels;

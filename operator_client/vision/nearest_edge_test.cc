@@ -399,6 +399,16 @@ TEST(NearestEdgeTest, StartTestMarksRaysStartingOnAnObjectAtTheImageBottom) {
   }
   EXPECT_GE(marked, 3);
   EXPECT_GT(unmarked, 20);
+  // The rows that show the robot are not its start: with the box only there, nothing is marked.
+  cv::Mat robot_rows(480, 640, CV_8UC1, cv::Scalar(200));
+  robot_rows(cv::Rect(280, 470, 80, 10)).setTo(60);
+  NearestEdgeOptions with_margin = options;
+  with_margin.bottom_margin_px = 12;
+  NedResult margin;
+  ASSERT_TRUE(FindNearestEdges(edges, *camera, scan, with_margin, &margin, &error, robot_rows))
+      << error;
+  for (const Nep& nep : margin.neps) EXPECT_FALSE(nep.starts_on_object);
+  EXPECT_GT(margin.found, 20);
 }
 
 TEST(NearestEdgeTest, FinderReportsTheHighestRowItsRaysRead) {
