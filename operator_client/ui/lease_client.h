@@ -19,8 +19,9 @@ class LeaseClient {
  public:
   // Re-request period while a wanted lease has not shown up.
   static constexpr Duration kRequestPeriod = std::chrono::seconds(1);
-  // Scripted drives arm once the lease has been held for longer than this.
-  static constexpr Duration kArmDelay = std::chrono::milliseconds(500);
+  // Scripted drives arm once the lease has been held for longer than this: three command
+  // periods, so the robot has seen enable = false after its lease change before enable = true.
+  static constexpr Duration kArmDelay = std::chrono::milliseconds(150);
 
   // `pilot`: this console may drive, and wants control from the start (the first Update()
   // asks for it). Observers never ask.

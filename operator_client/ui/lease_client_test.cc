@@ -83,14 +83,14 @@ TEST(LeaseClientTest, StaysActiveWhileHoldingAfterRelease) {
   EXPECT_FALSE(lease.active());
 }
 
-TEST(LeaseClientTest, ArmsHalfASecondAfterTheLeaseIsHeld) {
+TEST(LeaseClientTest, ArmsThreeCommandPeriodsAfterTheLeaseIsHeld) {
   FakeClock clock;
   LeaseClient lease("pilot", true);
   lease.Update(std::nullopt, clock.SteadyNow());
   EXPECT_FALSE(lease.armed(clock.SteadyNow()));
   clock.Advance(milliseconds(700));
   lease.Update(HeldBy("pilot"), clock.SteadyNow());
-  clock.Advance(milliseconds(500));
+  clock.Advance(milliseconds(150));
   EXPECT_FALSE(lease.armed(clock.SteadyNow()));
   clock.Advance(milliseconds(1));
   EXPECT_TRUE(lease.armed(clock.SteadyNow()));
@@ -98,7 +98,7 @@ TEST(LeaseClientTest, ArmsHalfASecondAfterTheLeaseIsHeld) {
   lease.Update(HeldBy("other"), clock.SteadyNow());
   EXPECT_FALSE(lease.armed(clock.SteadyNow()));
   lease.Update(HeldBy("pilot"), clock.SteadyNow());
-  clock.Advance(milliseconds(400));
+  clock.Advance(milliseconds(100));
   lease.Update(HeldBy("pilot"), clock.SteadyNow());
   EXPECT_FALSE(lease.armed(clock.SteadyNow()));
 }

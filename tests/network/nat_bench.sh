@@ -41,6 +41,8 @@
 # and the relay's, whatever the number of observers; "direct": every observer subscribes to the
 # robot), SECURE (1: DDS Security on top of the overlay, made by make_pki.sh; 0: off),
 # PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
+# REPAIR_MS (250: the server's dds.video_repair_period_ms), WINDOW (the server's default:
+# dds.video_window_pairs),
 # TRANSPORT ("udp", or "tcp" with WG_TCP), KEEP_WORK=1 keeps logs and traces. Prints RESULT
 # lines (key=value) for the test wrapper; with TRANSPORT=tcp also udp_blocked (a probe
 # datagram dropped by NAT A: 1) and endpoints_not_tunnel (peers the hub's WireGuard saw at an
@@ -53,6 +55,10 @@ set -euo pipefail
   exit 2
 }
 robot_server=$1; operator_client=$2; net_probe=$3; netem_relay=$4; mostar_relay=$5; src=$6
+for program in "$robot_server" "$operator_client" "$net_probe" "$netem_relay" "$mostar_relay"; do
+  [ -x "$program" ] || { echo "nat_bench: $program is not an executable" >&2; exit 2; }
+done
+[ -f "$src/deploy/dds/overlay.xml" ] || { echo "nat_bench: $src is not the source tree" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
 "$here/netns.sh" check || exit 77
 for tool in nft wg wg-quick wireguard-go openssl xvfb-run python3; do
@@ -109,7 +115,7 @@ sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" \
     -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
     "$src/deploy/config/server_sim.pbtxt" > "$work/server.pbtxt"
 # The Internet recipe's video settings (docs/networking.md): repairs about once per round trip.
-echo "dds { video_repair_period_ms: ${REPAIR_MS:-250} }" >> "$work/server.pbtxt"
+echo "dds { video_repair_period_ms: ${REPAIR_MS:-250}${WINDOW:+ video_window_pairs: $WINDOW} }" >> "$work/server.pbtxt"
 
 # Waits up to $2 tenths of a second for the shell condition $1.
 wait_for() {
