@@ -129,7 +129,9 @@ TEST(QosTest, SensorHistoryHoldsAQuarterSecondOfScansAtTheLms200sFullRate) {
             eprosima::fastdds::dds::BEST_EFFORT_RELIABILITY_QOS);
 }
 
-TEST(QosTest, VideoWritersRepairAtTheGivenPeriodWithoutPiggybackedHeartbeats) {
+// The single video writers (relay, replay) repair only periodically; the robot's ack-clock
+// lanes also piggyback a heartbeat on every write (RobotNodeTest checks what that does).
+TEST(QosTest, VideoWritersRepairAtTheGivenPeriodAndLanesAlsoAfterEveryWrite) {
   const auto fallback = WriterQos(Stream::kVideo);
   EXPECT_TRUE(fallback.reliable_writer_qos().disable_heartbeat_piggyback);
   EXPECT_EQ(fallback.reliable_writer_qos().times.heartbeatPeriod,
@@ -137,7 +139,7 @@ TEST(QosTest, VideoWritersRepairAtTheGivenPeriodWithoutPiggybackedHeartbeats) {
   const auto wan = VideoWriterQos(std::chrono::milliseconds(1250));
   EXPECT_EQ(wan.reliable_writer_qos().times.heartbeatPeriod,
             eprosima::fastrtps::Duration_t(1, 250'000'000));
-  EXPECT_TRUE(wan.reliable_writer_qos().disable_heartbeat_piggyback);
+  EXPECT_FALSE(wan.reliable_writer_qos().disable_heartbeat_piggyback);
   EXPECT_EQ(wan.reliability().kind, fallback.reliability().kind);
   EXPECT_EQ(wan.history().depth, 1);
   // Other streams keep the piggybacked heartbeat that acknowledges them quickly.

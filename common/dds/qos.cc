@@ -84,6 +84,9 @@ fdds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period) {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(repair_period).count();
   qos.reliable_writer_qos().times.heartbeatPeriod = Duration_t(
       static_cast<int32_t>(ns / 1'000'000'000), static_cast<uint32_t>(ns % 1'000'000'000));
+  // Keep-last 1: the history is full after every write, so Fast DDS 2.9 piggybacks a heartbeat
+  // on each one (StatefulWriter::send_heartbeat_piggyback_nts_).
+  qos.reliable_writer_qos().disable_heartbeat_piggyback = false;
   return qos;
 }
 

@@ -36,10 +36,15 @@ eprosima::fastdds::dds::DataWriterQos WriterQos(Stream stream);
 
 // Default heartbeat period of the video writers.
 constexpr std::chrono::milliseconds kDefaultVideoRepairPeriod{50};
-// kVideo writer QoS with heartbeat period `repair_period` (> 0): how often readers are asked
-// what they miss, and so how often a lost fragment is sent again. Fast DDS 2.9 answers every
-// NACK_FRAG at once (no NACK suppression for fragments), so a period shorter than the round
-// trip sends each lost fragment several times: on long links set it to about the round trip.
+// kVideo writer QoS for the robot's ack-clock lanes (RobotNode: keep-last-1 writers that each
+// carry at most one unacknowledged pair), heartbeat period `repair_period` (> 0): how often
+// readers are asked what they miss, and so how often a lost fragment is sent again. Fast DDS
+// 2.9 answers every NACK_FRAG at once (no NACK suppression for fragments), so a period shorter
+// than the round trip sends each lost fragment several times: on long links set it to about the
+// round trip. Unlike WriterQos(kVideo), a heartbeat also follows every write: each reader
+// acknowledges the pair, or asks for its missing fragments, one round trip after it was sent
+// instead of up to a repair period later, which frees the lane that much sooner. (A lane never
+// holds an older unacknowledged pair, so this does not repeat requests for earlier pairs.)
 eprosima::fastdds::dds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period);
 eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 

@@ -62,6 +62,25 @@ int PublishFor(RobotNode* node, uint64_t* sequence, std::chrono::milliseconds du
   return sent;
 }
 
+// Starts a net_probe observer process on this process' domain and publishes pairs until the
+// robot's video has `subscribers` matched readers; false with `error` when it does not.
+bool StartObserver(const std::string& id, RobotNode* node, int subscribers, uint64_t* sequence,
+                   testing::Subprocess* observer, std::string* error) {
+  const std::string dir = testing::MakeTempDir("mostar_robot_node_");
+  if (!observer->Start({std::string(MOSTAR_TEST_BINARY_DIR) + "/tests/network/net_probe",
+                        "--domain", std::to_string(dds::PerProcessDomainId()), "--id", id,
+                        "--no-ping", "--duration-s", "60"},
+                       dir + "/probe.log", error)) {
+    return false;
+  }
+  for (int i = 0; i < 300 && node->frame_subscribers() < subscribers; ++i) {
+    PublishFor(node, sequence, std::chrono::milliseconds(33));
+  }
+  if (node->frame_subscribers() == subscribers) return true;
+  *error = "the observer process did not match";
+  return false;
+}
+
 TEST(RobotNodeTest, AFrozenObserverCannotStopTheVideoOfTheOthers) {
   auto robot = MakeParticipant("robot");
   auto viewer = MakeParticipant("operator");
@@ -78,18 +97,10 @@ TEST(RobotNodeTest, AFrozenObserverCannotStopTheVideoOfTheOthers) {
   ASSERT_TRUE(left.ok()) << left.error();
 
   // The observer that will freeze: a separate process on the same domain.
-  const std::string dir = testing::MakeTempDir("mostar_robot_node_");
   testing::Subprocess observer;
-  ASSERT_TRUE(observer.Start({std::string(MOSTAR_TEST_BINARY_DIR) + "/tests/network/net_probe",
-                              "--domain", std::to_string(dds::PerProcessDomainId()), "--id",
-                              "frozen_observer", "--no-ping", "--duration-s", "60"},
-                             dir + "/probe.log", &error))
-      << error;
   uint64_t sequence = 0;
-  for (int i = 0; i < 300 && node->frame_subscribers() < 2; ++i) {
-    PublishFor(node.get(), &sequence, std::chrono::milliseconds(33));
-  }
-  ASSERT_EQ(node->frame_subscribers(), 2) << "the observer process did not match";
+  ASSERT_TRUE(StartObserver("frozen_observer", node.get(), 2, &sequence, &observer, &error))
+      << error;
   // Both acknowledge: every pair goes out, nothing is reclaimed.
   const int healthy_sent = PublishFor(node.get(), &sequence, std::chrono::milliseconds(2000));
   EXPECT_GE(healthy_sent, 20);  // of 60 (a loaded test machine delays acknowledgements)
@@ -109,6 +120,35 @@ TEST(RobotNodeTest, AFrozenObserverCannotStopTheVideoOfTheOthers) {
   EXPECT_GE(node->lanes_reclaimed(), 10u);
   EXPECT_GT(node->pairs_skipped(), 0u);
   EXPECT_GE(frames_during, 10) << "the other viewer stopped receiving";
+}
+
+// Each pair is acknowledged as soon as it arrives (a heartbeat follows every write), not at
+// the next periodic heartbeat: with one lane and a repair period of 3 s, pairs still go out at
+// the frame rate to a reader in another process (in-process readers acknowledge at once
+// whatever the heartbeats). Before, the lane was freed once per repair period: about 1 pair
+// in 2 s.
+TEST(RobotNodeTest, TheAckClockRunsOnAcknowledgementsNotOnTheRepairPeriod) {
+  auto robot = MakeParticipant("robot");
+  ASSERT_TRUE(robot);
+  RobotVideoOptions video;
+  video.window_pairs = 1;
+  video.lane_timeout = std::chrono::seconds(60);  // no reclaiming
+  video.repair_period = std::chrono::milliseconds(3000);
+  std::string error;
+  auto node = RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error, video);
+  ASSERT_NE(node, nullptr) << error;
+  testing::Subprocess observer;
+  uint64_t sequence = 0;
+  ASSERT_TRUE(StartObserver("observer", node.get(), 1, &sequence, &observer, &error)) << error;
+  // Let the pair that was in flight when it matched be acknowledged (at worst by the periodic
+  // heartbeat), then count.
+  for (int i = 0; i < 400 && !node->PublishStereo(Pair(++sequence)); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const int sent = PublishFor(node.get(), &sequence, std::chrono::milliseconds(2000));
+  observer.Signal(SIGTERM);
+  observer.Wait(std::chrono::seconds(10));
+  EXPECT_GE(sent, 15) << "of about 60: the lane waited for the periodic heartbeat";
 }
 
 // --insecure on a network profile shows in the robot's health; loopback does not.

@@ -44,7 +44,8 @@
 # REPAIR_MS (250: the server's dds.video_repair_period_ms), WINDOW (the server's default:
 # dds.video_window_pairs),
 # TRANSPORT ("udp", or "tcp" with WG_TCP), KEEP_WORK=1 keeps logs and traces. Prints RESULT
-# lines (key=value) for the test wrapper; with TRANSPORT=tcp also udp_blocked (a probe
+# lines (key=value: run, what, then the row's values, or failed=overlay|never_drove) for the
+# test wrapper and soak_bench.sh; with TRANSPORT=tcp also udp_blocked (a probe
 # datagram dropped by NAT A: 1) and endpoints_not_tunnel (peers the hub's WireGuard saw at an
 # address other than its tunnel server's: 0).
 # Needs root, nftables, wireguard-go, wireguard-tools, openssl, xvfb-run and python3;
@@ -221,7 +222,11 @@ run_one() {  # index, outage seconds or "readdress"
   local i=$1 what=$2 run domain robot_pid xvfb_pid client_pid probe1 probe2 total exits
   run="$work/run_$i"; mkdir -p "$run"
   domain=$((100 + RANDOM % 100))
-  overlay_up "$run" || { echo "| $i | $what | overlay did not come up | | | | | | |"; teardown; return; }
+  overlay_up "$run" || {
+    echo "| $i | $what | overlay did not come up | | | | | | |"
+    echo "RESULT run=$i what=$what failed=overlay"
+    teardown; return
+  }
   local ov="$run/overlay"
   ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
     --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" --trace "$run/server.csv" \
@@ -255,6 +260,7 @@ run_one() {  # index, outage seconds or "readdress"
 
   if ! wait_for "grep -q '^drive_out_mmps,[0-9]*,[1-9]' '$run/server.csv' 2>/dev/null" 600; then
     echo "| $i | $what | the robot never drove | | | | | | |"
+    echo "RESULT run=$i what=$what failed=never_drove"
     teardown; return
   fi
   local tx0 tx1
@@ -360,8 +366,8 @@ for name in ("udp_blocked", "endpoints_not_tunnel"):
     path = os.path.join(run, name)
     if os.path.exists(path):
         extra += " %s=%s" % (name, open(path).read().strip() or "none")
-print("RESULT run=%s stop_ms=%s stale=%s drive_s=%s back=%s fresh=%s exit=%s%s" % (
-    idx, stop_ms, stale, drive_s, back.replace(" ", ""), video.replace(" ", ""),
+print("RESULT run=%s what=%s stop_ms=%s stale=%s drive_s=%s back=%s fresh=%s exit=%s%s" % (
+    idx, what, stop_ms.replace(" ", "_"), stale, drive_s, back.replace(" ", ""), video.replace(" ", ""),
     exit_cell.replace(" ", ""), extra))
 EOF
 }
