@@ -1,6 +1,8 @@
 #include "common/dds/security.h"
 
+#include <algorithm>
 #include <cstring>
+#include <sstream>
 #include <utility>
 
 #include "common/identity/peer_certificate.h"
@@ -93,6 +95,48 @@ SecurityPolicy CheckSecurityPolicy(bool profile_is_loopback, const SecuritySetti
 PeerIdentityListener::PeerIdentityListener(std::unique_ptr<identity::IdentityCa> ca)
     : ca_(std::move(ca)) {}
 
+bool PeerEventLogBudget::Allow(const identity::GuidPrefix& prefix, Event event, SteadyTime now,
+                               uint64_t* suppressed) {
+  if (!last_refill_) last_refill_ = now;
+  while (now - *last_refill_ >= kRefill) {
+    *last_refill_ += kRefill;
+    tokens_ = std::min(kBurst, tokens_ + 1);
+    if (tokens_ == kBurst) last_refill_ = now;
+  }
+  const auto it = last_.find(prefix);
+  if (it != last_.end() && it->second == event) return false;  // said already
+  if (tokens_ == 0) {
+    ++suppressed_;
+    return false;
+  }
+  --tokens_;
+  if (last_.size() >= kMaxRemembered) last_.clear();
+  last_[prefix] = event;
+  *suppressed = suppressed_;
+  suppressed_ = 0;
+  return true;
+}
+
+void PeerIdentityListener::Log(const identity::GuidPrefix& prefix, PeerEventLogBudget::Event event,
+                               const std::string& text) {
+  uint64_t suppressed = 0;
+  {
+    std::lock_guard<std::mutex> lock(log_mutex_);
+    if (!log_budget_.Allow(prefix, event, SystemClock::Instance().SteadyNow(), &suppressed)) {
+      return;
+    }
+  }
+  const bool warn =
+      event == PeerEventLogBudget::Event::kRefused || event == PeerEventLogBudget::Event::kDropped;
+  const std::string more =
+      suppressed > 0 ? " (" + std::to_string(suppressed) + " participant events not logged)" : "";
+  if (warn) {
+    MOSTAR_LOG(WARNING) << text << more;
+  } else {
+    MOSTAR_LOG(INFO) << text << more;
+  }
+}
+
 PeerIdentityCounters PeerIdentityListener::counters() const {
   PeerIdentityCounters c;
   c.certificates_verified = verified_.load();
@@ -107,6 +151,13 @@ void PeerIdentityListener::on_participant_discovery(eprosima::fastdds::dds::Doma
   using Status = frtps::rtps::ParticipantDiscoveryInfo;
   const identity::GuidPrefix prefix = PrefixOf(info.info.m_guid.guidPrefix);
   if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+    const bool dropped = info.status == Status::DROPPED_PARTICIPANT;
+    std::ostringstream text;
+    text << "DDS participant " << info.info.m_guid.guidPrefix << " ('"
+         << table_.ClientIdOf(prefix).value_or("unauthenticated") << "') "
+         << (dropped ? "dropped: silent for its lease" : "left");
+    Log(prefix, dropped ? PeerEventLogBudget::Event::kDropped : PeerEventLogBudget::Event::kLeft,
+        text.str());
     table_.Forget(prefix);
     return;
   }
@@ -126,6 +177,12 @@ void PeerIdentityListener::on_participant_discovery(eprosima::fastdds::dds::Doma
     return;
   }
   if (table_.Bind(prefix, *client_id)) ++verified_;
+  if (info.status == Status::DISCOVERED_PARTICIPANT) {
+    std::ostringstream text;
+    text << "DDS participant " << info.info.m_guid.guidPrefix << " discovered, certificate of '"
+         << *client_id << "'";
+    Log(prefix, PeerEventLogBudget::Event::kDiscovered, text.str());
+  }
 }
 
 void PeerIdentityListener::onParticipantAuthentication(
@@ -134,8 +191,15 @@ void PeerIdentityListener::onParticipantAuthentication(
   if (info.status == frtps::rtps::ParticipantAuthenticationInfo::AUTHORIZED_PARTICIPANT) {
     ++authenticated_;
     table_.MarkAuthenticated(prefix);
+    std::ostringstream text;
+    text << "DDS participant " << info.guid.guidPrefix << " ('"
+         << table_.ClientIdOf(prefix).value_or("no certificate") << "') authenticated";
+    Log(prefix, PeerEventLogBudget::Event::kAuthenticated, text.str());
   } else {
     table_.Forget(prefix);
+    std::ostringstream text;
+    text << "DDS participant " << info.guid.guidPrefix << " failed authentication";
+    Log(prefix, PeerEventLogBudget::Event::kRefused, text.str());
   }
 }
 

@@ -8,11 +8,15 @@
 #include <atomic>
 #include <cstdint>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 
 #include "common/identity/certificate.h"
 #include "common/identity/peer_identity_table.h"
+#include "common/time/time.h"
 
 namespace mostar::dds {
 
@@ -63,10 +67,32 @@ struct PeerIdentityCounters {
   uint64_t authenticated = 0;          // AUTHORIZED events
 };
 
+// Which remote-participant events PeerIdentityListener logs: a participant's event only when
+// it differs from the last one logged for it (a peer refused at every announcement is logged
+// once), and at most kBurst lines at once, then one per kRefill; the rest are counted. Pure
+// (the caller passes the time); not thread-safe.
+class PeerEventLogBudget {
+ public:
+  static constexpr int kBurst = 20;
+  static constexpr Duration kRefill = std::chrono::milliseconds(500);
+  static constexpr size_t kMaxRemembered = 1024;  // participants; forgotten all at once beyond
+  enum class Event { kDiscovered, kAuthenticated, kRefused, kDropped, kLeft };
+  // True when `event` of `prefix` at `now` should be logged; then `*suppressed` is the number
+  // of events not logged for lack of budget since the last logged one.
+  bool Allow(const identity::GuidPrefix& prefix, Event event, SteadyTime now, uint64_t* suppressed);
+
+ private:
+  std::map<identity::GuidPrefix, Event> last_;
+  int tokens_ = kBurst;
+  std::optional<SteadyTime> last_refill_;
+  uint64_t suppressed_ = 0;
+};
+
 // Participant listener (given at creation, so no discovery is missed): binds each remote
 // participant's GUID prefix to the client id its announced certificate proves, and marks it
-// authenticated when DDS Security says so (PeerIdentityTable). Callbacks are quick and never
-// block. Thread-safe.
+// authenticated when DDS Security says so (PeerIdentityTable). Logs each remote participant
+// discovered (with its client id), authenticated, failing authentication, dropped (silent for
+// its lease) or gone (PeerEventLogBudget). Callbacks are quick and never block. Thread-safe.
 class PeerIdentityListener : public eprosima::fastdds::dds::DomainParticipantListener {
  public:
   explicit PeerIdentityListener(std::unique_ptr<identity::IdentityCa> ca);
@@ -85,7 +111,13 @@ class PeerIdentityListener : public eprosima::fastdds::dds::DomainParticipantLis
       eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override;
 
  private:
+  // Logs `text` for `event` of `prefix` when the budget allows.
+  void Log(const identity::GuidPrefix& prefix, PeerEventLogBudget::Event event,
+           const std::string& text);
+
   const std::unique_ptr<identity::IdentityCa> ca_;
+  std::mutex log_mutex_;
+  PeerEventLogBudget log_budget_;  // guarded by log_mutex_
   identity::PeerIdentityTable table_;
   std::atomic<uint64_t> verified_{0};
   std::atomic<uint64_t> refused_{0};

@@ -34,6 +34,35 @@ PropertyPolicy Properties(std::initializer_list<std::pair<std::string, std::stri
   return policy;
 }
 
+// A participant's event is logged once, not at every announcement; a burst beyond the budget
+// is counted and reported with the next line that is logged.
+TEST(PeerEventLogBudgetTest, LogsEachChangeOnceAndCountsWhatTheBudgetDrops) {
+  using Event = PeerEventLogBudget::Event;
+  PeerEventLogBudget budget;
+  SteadyTime now{};
+  uint64_t suppressed = 99;
+  const identity::GuidPrefix peer{1};
+  EXPECT_TRUE(budget.Allow(peer, Event::kDiscovered, now, &suppressed));
+  EXPECT_EQ(suppressed, 0u);
+  EXPECT_TRUE(budget.Allow(peer, Event::kAuthenticated, now, &suppressed));
+  EXPECT_FALSE(budget.Allow(peer, Event::kAuthenticated, now, &suppressed));  // said already
+  EXPECT_TRUE(budget.Allow(peer, Event::kDropped, now, &suppressed));
+  EXPECT_TRUE(budget.Allow(peer, Event::kDiscovered, now, &suppressed));  // back again
+
+  // A flood of refused participants: the rest of the burst, then nothing until refilled.
+  int logged = 0;
+  for (uint8_t i = 0; i < 100; ++i) {
+    const identity::GuidPrefix attacker{2, i};
+    if (budget.Allow(attacker, Event::kRefused, now, &suppressed)) ++logged;
+  }
+  EXPECT_EQ(logged, PeerEventLogBudget::kBurst - 4);
+  const identity::GuidPrefix late{3};
+  EXPECT_FALSE(budget.Allow(late, Event::kDiscovered, now, &suppressed));
+  now += PeerEventLogBudget::kRefill;
+  EXPECT_TRUE(budget.Allow(late, Event::kDiscovered, now, &suppressed));
+  EXPECT_EQ(suppressed, 100u - (PeerEventLogBudget::kBurst - 4) + 1);
+}
+
 TEST(SecuritySettingsTest, ReadsPkiDhFilesFromTheProperties) {
   SecuritySettings settings;
   std::string error;

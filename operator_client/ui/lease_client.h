@@ -17,8 +17,10 @@ enum class ControlRequest { kNone, kTake, kRelease };
 
 class LeaseClient {
  public:
-  // Re-request period while a wanted lease has not shown up.
-  static constexpr Duration kRequestPeriod = std::chrono::seconds(1);
+  // Re-request period while a wanted lease has not shown up. Requests written while the robot
+  // is not matched are lost (volatile), so after a rediscovery the next one is what gets
+  // through: short, so that control comes back soon after the link (a request is ~100 bytes).
+  static constexpr Duration kRequestPeriod = std::chrono::milliseconds(250);
   // Scripted drives arm once the lease has been held for longer than this: three command
   // periods, so the robot has seen enable = false after its lease change before enable = true.
   static constexpr Duration kArmDelay = std::chrono::milliseconds(150);

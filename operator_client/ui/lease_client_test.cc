@@ -22,11 +22,11 @@ TEST(LeaseClientTest, PilotRequestsUntilItHoldsTheLease) {
   EXPECT_TRUE(lease.active());
   EXPECT_FALSE(lease.holding());
   // Not answered yet: asked again once per period, not every frame.
-  clock.Advance(milliseconds(999));
+  clock.Advance(milliseconds(249));
   EXPECT_EQ(lease.Update(HeldBy("someone-else"), clock.SteadyNow()), ControlRequest::kNone);
   clock.Advance(milliseconds(1));
   EXPECT_EQ(lease.Update(HeldBy("someone-else"), clock.SteadyNow()), ControlRequest::kTake);
-  clock.Advance(milliseconds(300));
+  clock.Advance(milliseconds(100));
   EXPECT_EQ(lease.Update(HeldBy("pilot"), clock.SteadyNow()), ControlRequest::kNone);
   EXPECT_TRUE(lease.holding());
   clock.Advance(std::chrono::seconds(5));

@@ -98,5 +98,15 @@ expect "foreign CA: no data" '[ "$(field foreign left)" = 0 ] && [ "$(field fore
 expect "forged permissions: no data" '[ "$(field forged left)" = 0 ] && [ "$(field forged scan)" = 0 ]'
 expect "revoked certificate: no data" '[ "$(field revoked left)" = 0 ] && [ "$(field revoked scan)" = 0 ]'
 expect "revoked certificate: own participant refuses to start" '! grep -q "^probe:" "$work/revoked_local.out"'
+# The robot's log says who came and went (the probes ended above; their farewell may take a
+# moment to arrive).
+for i in $(seq 50); do grep -q "('watcher') left" "$work/robot.log" && break; sleep 0.1; done
+expect "the robot logs the observer's certificate" \
+  'grep -q "discovered, certificate of .watcher." "$work/robot.log"'
+expect "the robot logs the observer's authentication" \
+  'grep -q "(.watcher.) authenticated" "$work/robot.log"'
+expect "the robot logs that the observer left" 'grep -q "(.watcher.) left" "$work/robot.log"'
+expect "the robot logs the failed authentications" \
+  'grep -q "failed authentication" "$work/robot.log"'
 [ "$failures" -eq 0 ] || { echo "robot log:"; tail -20 "$work/robot.log"; exit 1; }
 echo "security_test: all checks passed"
