@@ -24,9 +24,12 @@ namespace mostar::udp_over_tcp {
 struct TunnelClientOptions {
   std::string listen = "127.0.0.1:51821";  // local UDP address (IPv4) for WireGuard
   std::string hub;                         // HOST:PORT of the hub's TCP port
-  int connect_timeout_ms = 3000;           // connect, and the peer's preamble, within this
+  // Connect, and the peer's preamble, within this: long enough for a lost SYN's first
+  // retransmission (1 s); with max_backoff_ms a dead path is dialled every 2.5 s at most, so
+  // the tunnel is back within about that once the path is.
+  int connect_timeout_ms = 1500;
   int initial_backoff_ms = 250;
-  int max_backoff_ms = 2000;
+  int max_backoff_ms = 1000;
   StreamLinkOptions link;
   TcpTuning tcp;
 };

@@ -171,10 +171,11 @@ while IFS=$'\t' read -r name addr key own role; do
   } > "$out/$name.conf"
   if [ -n "$tcp_hub" ]; then
     # The same peer behind the TCP fallback: WireGuard sends to the local tunnel client, and
-    # a keepalive after 2 s of silence, so that after the tunnel reconnects the hub learns the
-    # new endpoint within 2 s even when the peer has nothing else to send.
+    # a keepalive after 1 s of silence, so that after the tunnel reconnects the hub learns the
+    # new endpoint within 1 s even when the peer has nothing else to send (a robot whose DDS
+    # peers were all dropped sends nothing until someone announces itself to it).
     sed -e "s#^Endpoint = .*#Endpoint = 127.0.0.1:$tunnel_port#" \
-        -e "s#^PersistentKeepalive = .*#PersistentKeepalive = 2#" \
+        -e "s#^PersistentKeepalive = .*#PersistentKeepalive = 1#" \
         -e "s#^\(\# mostar overlay peer .*\)\$#\1 Over TCP via mostar-wg-tcp.service.#" \
         "$out/$name.conf" > "$out/$name.tcp.conf"
     {

@@ -90,9 +90,9 @@ check "the rewritten hub config has all five peers" \
 "$gen" "$work/tcp" --hub-endpoint hub.example.org:51820 --peer robot --observer dave \
   --tcp-hub hub.example.org:443 --tunnel-port 51900 > "$work/log3"
 tcp="$work/tcp"
-check "a TCP fallback peer config differs from the UDP one only in the endpoint, a 2 s keepalive (and its comment)" \
+check "a TCP fallback peer config differs from the UDP one only in the endpoint, a 1 s keepalive (and its comment)" \
   '[ "$(conf_value "$tcp/robot.tcp.conf" Endpoint)" = 127.0.0.1:51900 ] &&
-   [ "$(conf_value "$tcp/robot.tcp.conf" PersistentKeepalive)" = 2 ] &&
+   [ "$(conf_value "$tcp/robot.tcp.conf" PersistentKeepalive)" = 1 ] &&
    [ "$(diff <(grep -v "^#\|^Endpoint\|^PersistentKeepalive" "$tcp/robot.conf") <(grep -v "^#\|^Endpoint\|^PersistentKeepalive" "$tcp/robot.tcp.conf"))" = "" ]'
 check "each peer's tunnel client dials the hub's TCP port and listens where WireGuard sends" \
   'grep -qx "HUB=hub.example.org:443" "$tcp/dave.wg-tcp.env" &&
