@@ -68,6 +68,14 @@ done
 [ -c /dev/net/tun ] || { echo "nat_bench: /dev/net/tun is missing" >&2; exit 77; }
 
 runs=${RUNS:-5}
+for what in $runs; do
+  [[ "$what" =~ ^[1-9][0-9]*$ || "$what" = readdress ]] ||
+    { echo "nat_bench: RUNS: '$what' is neither outage seconds nor readdress" >&2; exit 2; }
+done
+[ -n "${runs// /}" ] || { echo "nat_bench: RUNS is empty" >&2; exit 2; }
+[[ "${WINDOW:-4}" =~ ^([1-9]|1[0-6])$ ]] || { echo "nat_bench: WINDOW must be 1..16" >&2; exit 2; }
+[[ "${REPAIR_MS:-250}" =~ ^[1-9][0-9]*$ ]] ||
+  { echo "nat_bench: REPAIR_MS must be a positive number of milliseconds" >&2; exit 2; }
 pre_s=${PRE_S:-4}
 post_s=${POST_S:-15}
 speed=${SPEED:-0.2}

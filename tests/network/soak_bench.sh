@@ -9,7 +9,8 @@
 # Summary per kind (times after the link came back, p50 / p95 / max over the runs):
 #   recovered   runs in which the pilot drove again and all three operators got video captured
 #               after the link came back, within POST_S
-#   stop        last accepted command -> drive output 0 on the robot (ms, max)
+#   stop        last accepted command -> drive output 0 on the robot (ms, max); for a new
+#               address, whether the robot drove on
 #   stale       runs in which the robot moved on commands from before the link came back
 #   drive       link back -> the pilot driving again (s)
 #   video       link back -> video captured after it at the slowest of the three operators (s)
@@ -73,12 +74,16 @@ for what in sorted(rows, key=lambda w: (not w.isdigit(), int(w) if w.isdigit() e
     recovered = sum(1 for d, b in zip(drive, back) if d is not None and b is not None)
     stops = [num(r.get("stop_ms", "")) for r in runs]
     stops = [s for s in stops if s is not None]
+    if what == "readdress":  # the robot should drive on; a stop is a pause in its commands
+        stop_cell = "kept driving" if not stops else "stopped in %d run(s), %.0f ms after the last command" % (len(stops), max(stops))
+    else:
+        stop_cell = "%.0f" % max(stops) if stops else "-"
     stale = sum(1 for r in runs if r.get("stale") == "yes")
     hangs = sum(1 for r in runs if r.get("exit", "").startswith("hang"))
     unclean = sum(1 for r in runs if (num(r.get("exit", "")) or 0) > 2.0)
     label = what + " s outage" if what.isdigit() else "new public address" if what == "readdress" else what
     print("| %s | %d | %d | %s | %d | %s | %s | %s | %d | %d |" % (
-        label, len(runs), recovered, "%.0f" % max(stops) if stops else "-", stale,
+        label, len(runs), recovered, stop_cell, stale,
         stats(drive), stats(back), stats(fresh), hangs, unclean))
 
 # Steady state before each cut (nat_bench.sh's STEADY lines): the median over the runs.
