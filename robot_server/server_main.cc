@@ -90,7 +90,7 @@ int Run(int argc, char** argv) {
   InstallStopSignals();
   InstallSignalRequest(SIGUSR2);  // a local e-stop release (root on the robot)
   if (!flags.replay_path.empty()) {
-    auto node = RobotNode::Create(participant.get(), {}, clock, &error);
+    auto node = RobotNode::Create(participant.get(), {}, {}, clock, &error);
     if (!node) return Fail(1, error);
     replay::ReplaySessionOptions replay;
     replay.path = flags.replay_path;
@@ -122,8 +122,13 @@ int Run(int argc, char** argv) {
   video.window_pairs = config.dds().video_window_pairs();
   video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());
   video.repair_period = std::chrono::milliseconds(config.dds().video_repair_period_ms());
+  // The role table's clients, each heard in its own partition (RobotNode).
+  std::vector<RobotSender> senders;
+  for (const auto& role : config.drive().roles()) {
+    senders.push_back({role.client_id(), role.role() == drive::PilotRole::PILOT});
+  }
   std::unique_ptr<RobotNode> node =
-      RobotNode::Create(participant.get(), callbacks, clock, &error, video);
+      RobotNode::Create(participant.get(), senders, callbacks, clock, &error, video);
   if (!node) return Fail(1, error);
 
   std::unique_ptr<record::RecordingWriter> recorder;

@@ -15,6 +15,7 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
+#include "common/identity/sender_partition.h"
 #include "common/testing/subprocess.h"
 #include "mostar_msgsPubSubTypes.h"
 
@@ -60,10 +61,13 @@ class EstopLatchRestartTest : public ::testing::Test {
           std::lock_guard<std::mutex> lock(mutex_);
           report_ = report;
         });
+    // As the pilot "operator" of server_sim.pbtxt, in its partition.
+    const auto qos = dds::InPartition(dds::WriterQos(dds::Stream::kControl),
+                                      identity::SenderPartition("operator"));
     estop_ = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>>(
-        *participant_, dds::topics::kEmergencyStop, dds::Stream::kControl);
+        *participant_, dds::topics::kEmergencyStop, qos);
     request_ = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>>(
-        *participant_, dds::topics::kControlRequest, dds::Stream::kControl);
+        *participant_, dds::topics::kControlRequest, qos);
   }
 
   void StartServer(Subprocess* server, int run) {

@@ -61,7 +61,8 @@ TEST(RobotControlOverDdsTest, AnOperatorTakesTheLeaseAndDrivesWhileScansFlow) {
     if (auto* controller = controller_ptr.load()) controller->OnControlRequest(r);
   };
   std::string error;
-  auto node = server::RobotNode::Create(robot_participant.get(), callbacks, clock, &error);
+  auto node = server::RobotNode::Create(robot_participant.get(), {{"pilot", /*pilot=*/true}},
+                                        callbacks, clock, &error);
   ASSERT_NE(node, nullptr) << error;
 
   server::RobotControllerOptions options;

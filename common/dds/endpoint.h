@@ -71,6 +71,19 @@ struct LivelinessChange {
   int not_alive_count_change = 0;
 };
 
+// " in partition 'P' (...)" when `qos` puts its endpoint in a partition (InPartition), for
+// the error of an endpoint DDS refused: under DDS Security the permissions must allow it.
+template <class Qos>
+std::string PartitionNote(const Qos& qos) {
+  for (const auto& property : qos.properties().properties()) {
+    if (property.name() == "partitions") {
+      return " in partition '" + property.value() +
+             "' (with DDS Security, are the permissions signed for it? docs/security.md)";
+    }
+  }
+  return "";
+}
+
 // Tag of the Reader constructor whose callback also gets the writer of each sample.
 struct WithWriter {};
 inline constexpr WithWriter kWithWriter{};
@@ -104,7 +117,9 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
     if (topic == nullptr) return;
     writer_ = participant.publisher()->create_datawriter(
         topic, qos, this, eprosima::fastdds::dds::StatusMask::publication_matched());
-    if (writer_ == nullptr) error_ = "cannot create a DDS writer on " + topic_name;
+    if (writer_ == nullptr) {
+      error_ = "cannot create a DDS writer on " + topic_name + PartitionNote(qos);
+    }
   }
   ~Writer() override {
     if (writer_ != nullptr) participant_.publisher()->delete_datawriter(writer_);
@@ -170,6 +185,12 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
   // `callback` also gets the writer of each sample (SampleInfo::publication_handle).
   Reader(Participant& participant, const std::string& topic_name, Stream stream, WithWriter,
          WriterCallback callback, LivelinessCallback on_liveliness = {})
+      : Reader(participant, topic_name, ReaderQos(stream), kWithWriter, std::move(callback),
+               std::move(on_liveliness)) {}
+  // With QoS made by the caller (e.g. InPartition(ReaderQos(stream), partition)).
+  Reader(Participant& participant, const std::string& topic_name,
+         const eprosima::fastdds::dds::DataReaderQos& qos, WithWriter, WriterCallback callback,
+         LivelinessCallback on_liveliness = {})
       : participant_(participant),
         callback_(std::move(callback)),
         on_liveliness_(std::move(on_liveliness)) {
@@ -178,11 +199,13 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
         &error_);
     if (topic == nullptr) return;
     using eprosima::fastdds::dds::StatusMask;
-    reader_ = participant.subscriber()->create_datareader(topic, ReaderQos(stream), this,
+    reader_ = participant.subscriber()->create_datareader(topic, qos, this,
                                                           StatusMask::data_available()
                                                               << StatusMask::subscription_matched()
                                                               << StatusMask::liveliness_changed());
-    if (reader_ == nullptr) error_ = "cannot create a DDS reader on " + topic_name;
+    if (reader_ == nullptr) {
+      error_ = "cannot create a DDS reader on " + topic_name + PartitionNote(qos);
+    }
   }
   ~Reader() override {
     if (reader_ != nullptr) {

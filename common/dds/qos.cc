@@ -121,4 +121,25 @@ fdds::DataReaderQos ReaderQos(Stream stream) {
   return qos;
 }
 
+namespace {
+
+template <class Qos>
+Qos WithPartitionProperty(Qos qos, const std::string& partition) {
+  auto& properties = qos.properties().properties();
+  for (auto it = properties.begin(); it != properties.end();) {
+    it = it->name() == "partitions" ? properties.erase(it) : it + 1;
+  }
+  properties.emplace_back("partitions", partition);
+  return qos;
+}
+
+}  // namespace
+
+fdds::DataWriterQos InPartition(fdds::DataWriterQos qos, const std::string& partition) {
+  return WithPartitionProperty(std::move(qos), partition);
+}
+fdds::DataReaderQos InPartition(fdds::DataReaderQos qos, const std::string& partition) {
+  return WithPartitionProperty(std::move(qos), partition);
+}
+
 }  // namespace mostar::dds

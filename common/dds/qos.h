@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <string>
 
 namespace mostar::dds {
 
@@ -47,6 +48,15 @@ constexpr std::chrono::milliseconds kDefaultVideoRepairPeriod{50};
 // holds an older unacknowledged pair, so this does not repeat requests for earlier pairs.)
 eprosima::fastdds::dds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period);
 eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
+
+// `qos` with the endpoint in the one DDS partition `partition` (Fast DDS 2.9's "partitions"
+// endpoint property; the publisher's or subscriber's own partitions no longer apply). Commands,
+// e-stops, control requests and clock pings travel in their writer's client partition
+// (common/identity/sender_partition.h).
+eprosima::fastdds::dds::DataWriterQos InPartition(eprosima::fastdds::dds::DataWriterQos qos,
+                                                  const std::string& partition);
+eprosima::fastdds::dds::DataReaderQos InPartition(eprosima::fastdds::dds::DataReaderQos qos,
+                                                  const std::string& partition);
 
 // Deadline of the command stream: a pilot that sends nothing for this long is considered gone.
 constexpr double kCommandDeadlineSeconds = 0.2;

@@ -12,6 +12,7 @@
 #                       [--org ORG] [--days N] [--ca-days N] [--crl-days N]
 #   make_pki.sh OUT_DIR --renew NAME [--days N] [--crl-days N] [--owner USER:GROUP]
 #   make_pki.sh OUT_DIR --refresh-crl [--crl-days N] [--owner USER:GROUP]
+#   make_pki.sh OUT_DIR --update-permissions [--days N] [--owner USER:GROUP]
 #
 #   --robot NAME     the robot_server identity (default: robot; made on the first run, later
 #                    runs leave it alone unless --robot is given)
@@ -35,6 +36,10 @@
 #   --renew NAME     a new key and certificate for NAME (same name and grants, permissions
 #                    valid --days from now); the old certificate is revoked as superseded
 #   --refresh-crl    only issue a new CRL and put it into every bundle (monthly)
+#   --update-permissions
+#                    re-sign every participant's permissions with the grants below (for a
+#                    PKI made by an earlier version, whose permissions lack the client
+#                    partitions: its consoles then fail to create their writers)
 #
 # Produces in OUT_DIR (existing CAs are reused, so participants can be added later):
 #   identity_ca.{cert,key}.pem     signs the participants' certificates (keep the key offline)
@@ -54,17 +59,19 @@
 #                                  copy it to INSTALL_DIR on that host
 # Never copy the CA keys (or OUT_DIR) to robots or operator computers.
 #
-# Grants (topics are DDS names, see common/dds/topics.h):
+# Grants (topics are DDS names, see common/dds/topics.h). cmd_vel, estop, control/request and
+# clock/ping are published only in the publisher's own partition mostar.client.NAME (the robot
+# tells who wrote a sample by the partition it came in: docs/security.md, Identities):
 #   robot     publishes camera, scan, odom, health, control/lease, clock/pong;
-#             subscribes cmd_vel, estop, control/request, clock/ping.
+#             subscribes cmd_vel, estop, control/request, clock/ping in mostar.client.*.
 #   pilot     publishes cmd_vel, estop, control/request, clock/ping; subscribes the rest.
 #   observer  subscribes camera, scan, odom, health, control/lease, clock/pong;
 #             publishes clock/ping and estop (anyone watching may stop the robot), never
 #             cmd_vel or control/request.
 #   relay     subscribes and publishes camera, scan, odom, health, control/lease (it forwards
-#             them to observers) and estop (observers' engagements go to the robot under the
-#             relay's name; list that name as an OBSERVER in the robot's role table); never
-#             cmd_vel, control/request or clock/ping.
+#             them to observers) and estop (observers' engagements, read in mostar.client.*,
+#             go to the robot under the relay's name; list that name as an OBSERVER in the
+#             robot's role table); never cmd_vel, control/request or clock/ping.
 set -euo pipefail
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
@@ -87,6 +94,7 @@ ca_days=3650
 crl_days=31
 renew=""
 refresh_crl=0
+update_permissions=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --robot) robot=$2; robot_given=1; shift 2 ;;
@@ -104,6 +112,7 @@ while [ $# -gt 0 ]; do
     --owner) owner=$2; shift 2 ;;
     --renew) renew=$2; shift 2 ;;
     --refresh-crl) refresh_crl=1; shift ;;
+    --update-permissions) update_permissions=1; shift ;;
     -h|--help) usage ;;
     *) die "unknown option $1" ;;
   esac
@@ -119,7 +128,7 @@ done
 [ -f "$profile" ] || die "no profiles file $profile"
 command -v openssl >/dev/null || die "openssl is required"
 
-if [ -n "$renew" ] || [ "$refresh_crl" = 1 ]; then
+if [ -n "$renew" ] || [ "$refresh_crl" = 1 ] || [ "$update_permissions" = 1 ]; then
   [ -f "$out/ca.cnf" ] || die "$out is no directory made by make_pki.sh"
 fi
 mkdir -p "$out"
@@ -272,14 +281,53 @@ openssl smime -sign -text -in governance.xml -out governance.p7s \
   -signer permissions_ca.cert.pem -inkey permissions_ca.key.pem
 
 # --- permissions per participant ---
+# What the robot must know the sender of (commands, e-stops, control requests, clock pings) is
+# published in the sender's own partition, mostar.client.NAME, and nowhere else: Fast DDS checks
+# a remote writer's partitions against the permissions of the certificate that authenticated,
+# so the robot, reading each client in its partition, knows who wrote a sample whatever GUID the
+# participant announced (docs/security.md, Identities). Everything else is in the default
+# partition.
 sensors="rt/mostar/camera/* rt/mostar/scan rt/mostar/odom rt/mostar/sonar rt/mostar/sonar/* rt/mostar/bumpers rt/mostar/health rt/mostar/control/lease"
+privileged="rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
 topics_xml() { for t in "$@"; do printf '            <topic>%s</topic>\n' "$t"; done; }
-make_permissions() {  # name, "publish topics", "subscribe topics"
+criteria() {  # publish|subscribe, "topics", partition ("" = the default partition)
+  [ -n "$2" ] || return 0
+  printf '        <%s>\n          <topics>\n' "$1"
+  # shellcheck disable=SC2086
+  topics_xml $2
+  printf '          </topics>\n'
+  [ -z "$3" ] || printf '          <partitions><partition>%s</partition></partitions>\n' "$3"
+  printf '        </%s>\n' "$1"
+}
+# One <allow_rule>. Fast DDS decides a topic by the first rule naming it, and accepts a
+# partition listed anywhere in that rule's publish (or subscribe) criteria: topics in other
+# partitions go into a rule of their own.
+allow_rule() {  # "publish topics", partition, "subscribe topics", partition
+  printf '      <allow_rule>\n'
+  printf '        <domains><id_range><min>%s</min><max>%s</max></id_range></domains>\n' \
+    "$domain_min" "$domain_max"
+  criteria publish "$1" "$2"
+  criteria subscribe "$3" "$4"
+  printf '      </allow_rule>\n'
+}
+rules_for() {  # role, name
+  case $1 in
+    robot) allow_rule "$sensors rt/mostar/clock/pong" "" "$privileged" "mostar.client.*" ;;
+    pilot) allow_rule "$privileged" "mostar.client.$2" "$sensors rt/mostar/clock/pong" "" ;;
+    observer)
+      allow_rule "rt/mostar/clock/ping rt/mostar/estop" "mostar.client.$2" \
+        "$sensors rt/mostar/clock/pong" "" ;;
+    relay)
+      allow_rule "$sensors" "" "$sensors" ""
+      allow_rule "rt/mostar/estop" "mostar.client.$2" "rt/mostar/estop" "mostar.client.*" ;;
+    *) die "unknown role '$1' of $2" ;;
+  esac
+}
+make_permissions() {  # name, role
   local subject not_before not_after
   subject=$(openssl x509 -in "$1.cert.pem" -noout -subject -nameopt RFC2253 | sed 's/^subject=//')
   not_before=$(date -u +%Y-%m-%dT%H:%M:%S)
   not_after=$(date -u -d "+$days days" +%Y-%m-%dT%H:%M:%S)
-  # shellcheck disable=SC2086
   cat > "$1.permissions.xml" <<EOF
 <?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
@@ -288,19 +336,7 @@ make_permissions() {  # name, "publish topics", "subscribe topics"
     <grant name="$1_grant">
       <subject_name>$subject</subject_name>
       <validity><not_before>$not_before</not_before><not_after>$not_after</not_after></validity>
-      <allow_rule>
-        <domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>
-        <publish>
-          <topics>
-$(topics_xml $2)
-          </topics>
-        </publish>
-        <subscribe>
-          <topics>
-$(topics_xml $3)
-          </topics>
-        </subscribe>
-      </allow_rule>
+$(rules_for "$2" "$1")
       <default>DENY</default>
     </grant>
   </permissions>
@@ -308,7 +344,39 @@ $(topics_xml $3)
 EOF
   openssl smime -sign -text -in "$1.permissions.xml" -out "$1.permissions.p7s" \
     -signer permissions_ca.cert.pem -inkey permissions_ca.key.pem
+  # Each participant's role, for --update-permissions.
+  { grep -v "^$1 " roles 2>/dev/null || true; echo "$1 $2"; } > roles.new
+  mv roles.new roles
 }
+# The role of participant NAME: from OUT_DIR/roles, else read off its permissions (made before
+# roles were recorded): what it publishes tells.
+role_of() {
+  local role publishes
+  role=$(awk -v n="$1" '$1 == n { print $2 }' roles 2>/dev/null || true)
+  if [ -z "$role" ]; then
+    publishes=$(sed -n '/<publish>/,/<\/publish>/p' "$1.permissions.xml")
+    case $publishes in
+      *rt/mostar/clock/pong*) role=robot ;;
+      *rt/mostar/cmd_vel*) role=pilot ;;
+      *rt/mostar/scan*) role=relay ;;
+      *) role=observer ;;
+    esac
+  fi
+  echo "$role"
+}
+
+if [ "$update_permissions" = 1 ]; then
+  for f in ./*.permissions.xml; do
+    [ -e "$f" ] || continue
+    name=${f#./}; name=${name%.permissions.xml}
+    make_permissions "$name" "$(role_of "$name")"
+    chmod 644 "$name.permissions.p7s"
+  done
+  make_bundles
+  echo "make_pki.sh: permissions re-signed with client partitions ($(tr '\n' ' ' < roles));" \
+    "copy each NAME.permissions.p7s (or hosts/NAME/) to its host and restart the programs"
+  exit 0
+fi
 
 # --- a secure copy of the profiles file for each participant ---
 make_profile() {  # name
@@ -341,24 +409,22 @@ EOF
 echo "$install_dir" > install_dir
 if [ "$robot_given" = 1 ] || [ ! -f "$robot.cert.pem" ]; then
   make_identity "$robot"
-  make_permissions "$robot" "$sensors rt/mostar/clock/pong" \
-    "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
+  make_permissions "$robot" robot
   make_profile "$robot"
 fi
 for p in "${pilots[@]}"; do
   make_identity "$p"
-  make_permissions "$p" "rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping" \
-    "$sensors rt/mostar/clock/pong"
+  make_permissions "$p" pilot
   make_profile "$p"
 done
 for o in "${observers[@]}"; do
   make_identity "$o"
-  make_permissions "$o" "rt/mostar/clock/ping rt/mostar/estop" "$sensors rt/mostar/clock/pong"
+  make_permissions "$o" observer
   make_profile "$o"
 done
 for r in "${relays[@]}"; do
   make_identity "$r"
-  make_permissions "$r" "$sensors rt/mostar/estop" "$sensors rt/mostar/estop"
+  make_permissions "$r" relay
   make_profile "$r"
 done
 

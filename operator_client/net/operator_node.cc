@@ -2,6 +2,8 @@
 
 #include "common/dds/conversions.h"
 #include "common/dds/topics.h"
+#include "common/identity/client_id.h"
+#include "common/identity/sender_partition.h"
 
 namespace mostar::client {
 
@@ -20,6 +22,11 @@ bool Check(const std::unique_ptr<T>& endpoint, std::string* error) {
 std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant,
                                                    const Options& options, Callbacks callbacks,
                                                    std::string* error) {
+  std::string why;
+  if (!identity::IsValidClientId(options.client_id, &why)) {
+    *error = "the client id '" + options.client_id + "' is not valid: " + why;
+    return nullptr;
+  }
   std::unique_ptr<OperatorNode> node(new OperatorNode());
   node->callbacks_ = std::move(callbacks);
   OperatorNode* self = node.get();
@@ -79,18 +86,24 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
         if (self->callbacks_.on_frame_timing)
           self->callbacks_.on_frame_timing(dds::FromIdl(timing));
       });
+  // What the robot must know the sender of goes out in this client's own partition: under DDS
+  // Security the permissions of this client's certificate allow no other
+  // (common/identity/sender_partition.h).
+  const std::string partition = identity::SenderPartition(options.client_id);
+  const auto command_qos = dds::InPartition(dds::WriterQos(Stream::kCommand), partition);
+  const auto control_qos = dds::InPartition(dds::WriterQos(Stream::kControl), partition);
   if (options.pilot) {
-    node->command_ = std::make_unique<decltype(node->command_)::element_type>(p, topics::kCommand,
-                                                                              Stream::kCommand);
+    node->command_ =
+        std::make_unique<decltype(node->command_)::element_type>(p, topics::kCommand, command_qos);
   }
   node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(p, topics::kEmergencyStop,
-                                                                        Stream::kControl);
+                                                                        control_qos);
   if (options.pilot) {  // observers never ask for control (and may lack the permission)
     node->request_ = std::make_unique<decltype(node->request_)::element_type>(
-        p, topics::kControlRequest, Stream::kControl);
+        p, topics::kControlRequest, control_qos);
   }
-  node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(p, topics::kClockPing,
-                                                                      Stream::kControl);
+  node->ping_ =
+      std::make_unique<decltype(node->ping_)::element_type>(p, topics::kClockPing, control_qos);
   if (!Check(node->left_, error) || !Check(node->right_, error) || !Check(node->scan_, error) ||
       !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||

@@ -39,6 +39,8 @@ class OperatorNode {
     std::function<void(const FrameTiming&)> on_frame_timing;
   };
   struct Options {
+    // This console's client id (valid: client_id.h); its commands, e-stops, control requests and
+    // clock pings are written in its partition (common/identity/sender_partition.h).
     std::string client_id = "operator";
     bool pilot = false;  // observers create no command writer
   };

@@ -35,6 +35,8 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
+#include "common/identity/client_id.h"
+#include "common/identity/sender_partition.h"
 #include "common/log/log.h"
 #include "common/process/stop_signals.h"
 #include "common/time/time.h"
@@ -89,19 +91,24 @@ class EstopForwarder final : public ForwarderBase {
   EstopForwarder(dds::Participant& robot_side, dds::Participant& observer_side,
                  const std::string& relay_id)
       : forwarding_(relay_id, std::chrono::milliseconds(50)),
-        writer_(robot_side, dds::topics::kEmergencyStop, dds::Stream::kControl),
-        reader_(observer_side, dds::topics::kEmergencyStop, dds::Stream::kControl,
-                [this](const dds::wire::EmergencyStop& sample) {
-                  const EmergencyStop received = dds::FromIdl(sample);
-                  std::lock_guard<std::mutex> lock(mutex_);
-                  const std::optional<EmergencyStop> out =
-                      forwarding_.OnObserverEstop(received, clock_.Now(), clock_.SteadyNow());
-                  if (!out) return;
-                  MOSTAR_LOG(WARNING)
-                      << "emergency stop from observer " << received.sender_id.substr(0, 64)
-                      << " forwarded to the robot";
-                  if (!writer_.Write(dds::ToIdl(*out))) ++write_failures_;
-                }) {}
+        // To the robot in the relay's own partition (its permissions allow no other); from
+        // every observer's partition.
+        writer_(robot_side, dds::topics::kEmergencyStop,
+                dds::InPartition(dds::WriterQos(dds::Stream::kControl),
+                                 identity::SenderPartition(relay_id))),
+        reader_(
+            observer_side, dds::topics::kEmergencyStop,
+            dds::InPartition(dds::ReaderQos(dds::Stream::kControl), identity::kAnySenderPartition),
+            dds::kWithWriter, [this](const dds::wire::EmergencyStop& sample, const dds::WriterId&) {
+              const EmergencyStop received = dds::FromIdl(sample);
+              std::lock_guard<std::mutex> lock(mutex_);
+              const std::optional<EmergencyStop> out =
+                  forwarding_.OnObserverEstop(received, clock_.Now(), clock_.SteadyNow());
+              if (!out) return;
+              MOSTAR_LOG(WARNING) << "emergency stop from observer "
+                                  << received.sender_id.substr(0, 64) << " forwarded to the robot";
+              if (!writer_.Write(dds::ToIdl(*out))) ++write_failures_;
+            }) {}
 
   bool ok(std::string* error) const override {
     if (!writer_.ok()) *error = writer_.error();
@@ -222,6 +229,11 @@ int Main(int argc, char** argv) {
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::BumperState_PubSubType>>(
       *robot_side, *observer_side, topics::kBumpers, Stream::kState));
   if (!robot_side->own_client_id().empty()) relay_id = robot_side->own_client_id();
+  if (std::string why; !identity::IsValidClientId(relay_id, &why)) {
+    std::cerr << "mostar_relay: --id '" << relay_id << "' is not a valid client id: " << why
+              << "\n";
+    return 2;
+  }
   forwarders.push_back(std::make_unique<EstopForwarder>(*robot_side, *observer_side, relay_id));
   for (const auto& f : forwarders) {
     if (!f->ok(&error)) {

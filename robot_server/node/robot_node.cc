@@ -1,10 +1,12 @@
 #include "robot_server/node/robot_node.h"
 
 #include <algorithm>
+#include <set>
 
 #include "common/dds/conversions.h"
 #include "common/dds/topics.h"
 #include "common/identity/client_id.h"
+#include "common/identity/sender_partition.h"
 #include "common/log/log.h"
 
 namespace mostar::server {
@@ -53,7 +55,7 @@ DeviceHealth RobotNode::NetworkHealth() const {
   const dds::PeerIdentityCounters identities = participant_->identity_counters();
   network.counters.emplace_back("certificates_verified", identities.certificates_verified);
   network.counters.emplace_back("certificates_refused", identities.certificates_refused);
-  network.counters.emplace_back("clock_clients_evicted", clock_responder_->evicted());
+  network.counters.emplace_back("clock_clients_evicted", unlisted_clock_responder_->evicted());
   if (participant_->security_off()) {
     network.state = DeviceState::kWarn;  // every console's HUD lists it
     network.message = "dds security off (--insecure): sender ids unverified";
@@ -63,9 +65,10 @@ DeviceHealth RobotNode::NetworkHealth() const {
   return network;
 }
 
-std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Callbacks callbacks,
-                                             const Clock* clock, std::string* error,
-                                             VideoOptions video) {
+std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
+                                             const std::vector<RobotSender>& senders,
+                                             Callbacks callbacks, const Clock* clock,
+                                             std::string* error, VideoOptions video) {
   if (video.window_pairs < 1) {
     if (error) *error = "the video window must be at least one pair";
     return nullptr;
@@ -82,8 +85,22 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
   node->clock_ = clock;
   node->participant_ = participant;
   node->callbacks_ = std::move(callbacks);
+  for (const RobotSender& sender : senders) {
+    std::string why;
+    if (!identity::IsValidClientId(sender.client_id, &why)) {
+      if (error) *error = "sender '" + sender.client_id + "': " + why;
+      return nullptr;
+    }
+    if (!node->listed_.insert(sender.client_id).second) {
+      if (error) *error = "sender '" + sender.client_id + "' is listed twice";
+      return nullptr;
+    }
+  }
   node->sender_check_ = std::make_unique<SenderCheck>(participant->secure());
-  node->clock_responder_ = std::make_unique<ClockResponder>(*clock);
+  // One slot per role-table client: only they reach it, so none is ever evicted.
+  node->clock_responder_ =
+      std::make_unique<ClockResponder>(*clock, std::max<size_t>(1, senders.size()));
+  node->unlisted_clock_responder_ = std::make_unique<ClockResponder>(*clock);
   if (!participant->secure()) {
     MOSTAR_LOG(WARNING) << "DDS Security is off: the sender ids of commands, e-stops, control "
                            "requests and clock pings cannot be verified";
@@ -120,39 +137,14 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
                                                                         Stream::kState);
   node->pong_ = std::make_unique<decltype(node->pong_)::element_type>(p, topics::kClockPong,
                                                                       Stream::kControl);
-  node->command_ = std::make_unique<decltype(node->command_)::element_type>(
-      p, topics::kCommand, Stream::kCommand, dds::kWithWriter,
-      [self](const dds::wire::VelocityCommand& c, const dds::WriterId& from) {
-        const VelocityCommand command = dds::FromIdl(c);
-        if (!self->Admit(SenderChannel::kCommand, command.sender_id, from)) return;
-        self->command_writers_.NoteCommand(from, command.sender_id);
-        if (self->callbacks_.on_command) self->callbacks_.on_command(command);
-      },
-      [self](const dds::LivelinessChange& change) {
-        if (change.alive_count_change >= 0) return;
-        const std::optional<std::string> lost = self->command_writers_.WriterLost(change.writer);
-        if (lost && self->callbacks_.on_command_stream_lost) {
-          self->callbacks_.on_command_stream_lost(*lost);
-        }
-      });
-  node->estop_ = std::make_unique<decltype(node->estop_)::element_type>(
-      p, topics::kEmergencyStop, Stream::kControl, dds::kWithWriter,
-      [self](const dds::wire::EmergencyStop& s, const dds::WriterId& from) {
-        const EmergencyStop stop = dds::FromIdl(s);
-        if (!self->Admit(SenderChannel::kEmergencyStop, stop.sender_id, from)) return;
-        if (self->callbacks_.on_estop) self->callbacks_.on_estop(stop);
-      });
-  node->request_ = std::make_unique<decltype(node->request_)::element_type>(
-      p, topics::kControlRequest, Stream::kControl, dds::kWithWriter,
-      [self](const dds::wire::ControlRequest& r, const dds::WriterId& from) {
-        const ControlRequest request = dds::FromIdl(r);
-        if (!self->Admit(SenderChannel::kControlRequest, request.sender_id, from)) return;
-        if (self->callbacks_.on_control_request) self->callbacks_.on_control_request(request);
-      });
-  node->ping_ = std::make_unique<decltype(node->ping_)::element_type>(
-      p, topics::kClockPing, Stream::kControl, dds::kWithWriter,
-      [self](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
-        self->OnPing(dds::FromIdl(ping), from);
+  for (const RobotSender& sender : senders) {
+    if (!node->AddSender(p, sender, error)) return nullptr;
+  }
+  node->unlisted_ping_ = std::make_unique<PingReader>(
+      p, topics::kClockPing,
+      dds::InPartition(dds::ReaderQos(Stream::kControl), identity::kAnySenderPartition),
+      dds::kWithWriter, [self](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
+        self->OnUnlistedPing(dds::FromIdl(ping), from);
       });
   for (const VideoLane& lane : node->lanes_) {
     if (!Check(lane.left, error) || !Check(lane.right, error)) return nullptr;
@@ -161,30 +153,104 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant, Call
       !Check(node->right_info_, error) || !Check(node->odom_, error) ||
       !Check(node->timing_, error) || !Check(node->health_, error) || !Check(node->sonar_, error) ||
       !Check(node->sonar_range_, error) || !Check(node->bumpers_, error) ||
-      !Check(node->lease_, error) || !Check(node->pong_, error) || !Check(node->command_, error) ||
-      !Check(node->estop_, error) || !Check(node->request_, error) || !Check(node->ping_, error)) {
+      !Check(node->lease_, error) || !Check(node->pong_, error) ||
+      !Check(node->unlisted_ping_, error)) {
     return nullptr;
   }
   node->publisher_ = std::thread([self] { self->PublisherLoop(); });
   return node;
 }
 
+bool RobotNode::AddSender(dds::Participant& p, const RobotSender& sender, std::string* error) {
+  auto readers = std::make_unique<SenderReaders>();
+  readers->client_id = sender.client_id;
+  const std::string client = sender.client_id;
+  const std::string partition = identity::SenderPartition(client);
+  const auto control_qos = dds::InPartition(dds::ReaderQos(Stream::kControl), partition);
+  if (sender.pilot) {
+    readers->command = std::make_unique<CommandReader>(
+        p, topics::kCommand, dds::InPartition(dds::ReaderQos(Stream::kCommand), partition),
+        dds::kWithWriter,
+        [this, client](const dds::wire::VelocityCommand& c, const dds::WriterId& from) {
+          const VelocityCommand command = dds::FromIdl(c);
+          if (!Admit(SenderChannel::kCommand, command.sender_id, client, from)) return;
+          command_writers_.NoteCommand(from, client);
+          if (callbacks_.on_command) callbacks_.on_command(command);
+        },
+        [this](const dds::LivelinessChange& change) {
+          if (change.alive_count_change >= 0) return;
+          const std::optional<std::string> lost = command_writers_.WriterLost(change.writer);
+          if (lost && callbacks_.on_command_stream_lost) callbacks_.on_command_stream_lost(*lost);
+        });
+    readers->request = std::make_unique<RequestReader>(
+        p, topics::kControlRequest, control_qos, dds::kWithWriter,
+        [this, client](const dds::wire::ControlRequest& r, const dds::WriterId& from) {
+          const ControlRequest request = dds::FromIdl(r);
+          if (!Admit(SenderChannel::kControlRequest, request.sender_id, client, from)) return;
+          if (callbacks_.on_control_request) callbacks_.on_control_request(request);
+        });
+  }
+  readers->estop = std::make_unique<EstopReader>(
+      p, topics::kEmergencyStop, control_qos, dds::kWithWriter,
+      [this, client](const dds::wire::EmergencyStop& s, const dds::WriterId& from) {
+        const EmergencyStop stop = dds::FromIdl(s);
+        if (!Admit(SenderChannel::kEmergencyStop, stop.sender_id, client, from)) return;
+        if (callbacks_.on_estop) callbacks_.on_estop(stop);
+      });
+  readers->ping = std::make_unique<PingReader>(
+      p, topics::kClockPing, control_qos, dds::kWithWriter,
+      [this, client](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
+        const ClockProbe probe = dds::FromIdl(ping);
+        if (!Admit(SenderChannel::kClockPing, probe.sender_id, client, from)) return;
+        OnPing(probe, client);
+      });
+  if ((readers->command && !Check(readers->command, error)) ||
+      (readers->request && !Check(readers->request, error)) || !Check(readers->estop, error) ||
+      !Check(readers->ping, error)) {
+    return false;
+  }
+  senders_.push_back(std::move(readers));
+  return true;
+}
+
+int RobotNode::command_writers() const {
+  int matched = 0;
+  for (const auto& readers : senders_) {
+    if (readers->command) matched += readers->command->matched();
+  }
+  return matched;
+}
+
 bool RobotNode::Admit(SenderChannel channel, const std::string& sender_id,
-                      const dds::WriterId& from) {
-  const std::optional<std::string> writer = participant_->AuthenticatedClientId(from.participant);
-  const SenderVerdict verdict = sender_check_->Check(channel, sender_id, writer);
+                      const std::string& client, const dds::WriterId& from) {
+  const SenderVerdict verdict = sender_check_->Check(channel, sender_id, client);
   if (SenderCheck::Admits(verdict)) return true;
   MOSTAR_LOG_EVERY_SEC(WARNING, 5)
-      << SenderChannelName(channel) << " from participant " << Hex(from.participant) << " as "
-      << Printable(sender_id) << " dropped: " << SenderVerdictName(verdict)
-      << (writer ? " (its certificate is '" + *writer + "')" : "");
+      << SenderChannelName(channel) << " as " << Printable(sender_id) << " in the partition of '"
+      << client << "'" << (sender_check_->identities_verified() ? " (its certificate's)" : "")
+      << " from participant " << Hex(from.participant)
+      << " dropped: " << SenderVerdictName(verdict);
   return false;
 }
 
-void RobotNode::OnPing(const ClockProbe& ping, const dds::WriterId& from) {
+void RobotNode::OnPing(const ClockProbe& ping, const std::string& client) {
   const Time received = clock_->Now();
-  if (!Admit(SenderChannel::kClockPing, ping.sender_id, from)) return;
-  pong_->Write(dds::ToIdl(clock_responder_->Answer(ping.sender_id, ping, received)));
+  pong_->Write(dds::ToIdl(clock_responder_->Answer(client, ping, received)));
+}
+
+void RobotNode::OnUnlistedPing(const ClockProbe& ping, const dds::WriterId& from) {
+  const Time received = clock_->Now();
+  // A role-table client's pings count in its own partition only (this reader hears them there
+  // too); here its id is anybody's claim.
+  if (listed_.count(ping.sender_id) != 0) return;
+  if (!identity::IsValidClientId(ping.sender_id)) {
+    // Counted as an invalid id (the check fails on the id before it compares).
+    sender_check_->Check(SenderChannel::kClockPing, ping.sender_id, ping.sender_id);
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+        << "clock_ping from participant " << Hex(from.participant) << " dropped: invalid sender_id";
+    return;
+  }
+  pong_->Write(dds::ToIdl(unlisted_clock_responder_->Answer(ping.sender_id, ping, received)));
 }
 
 std::optional<Duration> RobotNode::RobotMinusClient(const std::string& client_id) const {

@@ -4,12 +4,18 @@
 // be quick (hand the data over, do not block). Clock pings are answered here (NTP-style pong
 // with receive and send stamps on the robot clock, ClockResponder).
 //
-// Every command, e-stop, control request and clock ping passes SenderCheck before it is handed
-// on: with DDS Security its sender_id must be the client id (certificate CN) of the
-// authenticated participant that wrote it, else it is dropped, counted in the "network" health
-// device and logged (at most every 5 s); without DDS Security ids are taken as written and the
-// health says identities_verified = 0. Clock offsets are kept per admitted client id and reset
-// for the old and the new holder when the lease changes hands (seen in PublishLease).
+// Who sent what: every client of the role table (RobotSender) gets its own readers, in its own
+// DDS partition (common/identity/sender_partition.h): e-stop and clock pings for everyone,
+// cmd_vel and control requests for pilots too. A sample's client is the partition it arrived
+// in: with DDS Security only the certificate of that client may write there (its signed
+// permissions; Fast DDS checks them against the certificate that authenticated, whatever GUID
+// the participant announces). Each sample then passes SenderCheck (its sender_id must be that
+// client) before it is handed on; drops are counted in the "network" health device and logged
+// (at most every 5 s). Without DDS Security ids are claims and the health says
+// identities_verified = 0. Clients outside the role table may only ping the clock (one more
+// reader over every client partition): they get pongs, but are kept apart from the role table's
+// clock offsets, which they can neither move nor evict. Clock offsets are kept per client id and
+// reset for the old and the new holder when the lease changes hands (seen in PublishLease).
 #pragma once
 
 #include <atomic>
@@ -20,6 +26,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -55,6 +62,12 @@ struct RobotVideoOptions {
   std::chrono::milliseconds repair_period = dds::kDefaultVideoRepairPeriod;
 };
 
+// A client of the robot's role table: whose samples the robot reads, in its partition.
+struct RobotSender {
+  std::string client_id;  // valid (client_id.h)
+  bool pilot = false;     // also cmd_vel and control requests
+};
+
 class RobotNode final : public RobotLink {
  public:
   struct Callbacks {
@@ -67,10 +80,13 @@ class RobotNode final : public RobotLink {
   };
 
   using VideoOptions = RobotVideoOptions;
-  // Creates every endpoint; null with `error` when one cannot be created or `video` is invalid.
-  static std::unique_ptr<RobotNode> Create(dds::Participant* participant, Callbacks callbacks,
-                                           const Clock* clock, std::string* error,
-                                           VideoOptions video = {});
+  // Creates every endpoint, with readers for each of `senders` (ids distinct and valid); null
+  // with `error` when one cannot be created, or `senders` or `video` is invalid. No senders: the
+  // robot hears nobody but clock pings (replay).
+  static std::unique_ptr<RobotNode> Create(dds::Participant* participant,
+                                           const std::vector<RobotSender>& senders,
+                                           Callbacks callbacks, const Clock* clock,
+                                           std::string* error, VideoOptions video = {});
   // Both eyes, then (through the outbox) their FrameTiming on rt/mostar/camera/timing; false
   // when the pair was not sent: skipped at the source because every lane still
   // has an unacknowledged pair (ack-clock with a window), or refused by DDS.
@@ -126,7 +142,8 @@ class RobotNode final : public RobotLink {
   DeviceHealth NetworkHealth() const override;
   // Pairs written on a lane that a reader had left unacknowledged for lane_timeout.
   uint64_t lanes_reclaimed() const { return lanes_reclaimed_.load(); }
-  int command_writers() const { return command_->matched(); }
+  // Command writers matched over every pilot's partition.
+  int command_writers() const;
   // True with DDS Security: senders are verified against their certificates.
   bool identities_verified() const { return sender_check_->identities_verified(); }
   // Samples dropped by the sender check so far.
@@ -135,9 +152,29 @@ class RobotNode final : public RobotLink {
  private:
   RobotNode() = default;
 
-  void OnPing(const ClockProbe& ping, const dds::WriterId& from);
-  // SenderCheck of a sample from `from`; logs drops. True when the sample may be handed on.
-  bool Admit(SenderChannel channel, const std::string& sender_id, const dds::WriterId& from);
+  using CommandReader = dds::Reader<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>;
+  using EstopReader = dds::Reader<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>;
+  using RequestReader = dds::Reader<mostar_msgs::msg::dds_::ControlRequest_PubSubType>;
+  using PingReader = dds::Reader<mostar_msgs::msg::dds_::ClockProbe_PubSubType>;
+  // The readers of one client of the role table, in its partition.
+  struct SenderReaders {
+    std::string client_id;
+    std::unique_ptr<CommandReader> command;  // pilots only
+    std::unique_ptr<EstopReader> estop;
+    std::unique_ptr<RequestReader> request;  // pilots only
+    std::unique_ptr<PingReader> ping;
+  };
+  // Creates the readers of `sender` on `participant`; false with `error`.
+  bool AddSender(dds::Participant& participant, const RobotSender& sender, std::string* error);
+
+  // A ping of role-table client `client` (its partition).
+  void OnPing(const ClockProbe& ping, const std::string& client);
+  // A ping from the reader over every partition: answered for clients outside the role table.
+  void OnUnlistedPing(const ClockProbe& ping, const dds::WriterId& from);
+  // SenderCheck of a sample that arrived in `client`'s partition from `from`; logs drops. True
+  // when the sample may be handed on.
+  bool Admit(SenderChannel channel, const std::string& sender_id, const std::string& client,
+             const dds::WriterId& from);
   void Post(std::function<void()> write);
   void PublisherLoop();
 
@@ -145,7 +182,9 @@ class RobotNode final : public RobotLink {
   const dds::Participant* participant_ = nullptr;
   Callbacks callbacks_;
   std::unique_ptr<SenderCheck> sender_check_;
-  std::unique_ptr<ClockResponder> clock_responder_;
+  std::unique_ptr<ClockResponder> clock_responder_;           // role-table clients
+  std::unique_ptr<ClockResponder> unlisted_clock_responder_;  // everyone else (pongs only)
+  std::set<std::string> listed_;                              // role-table client ids
   CommandWriterTracker command_writers_;
   std::mutex lease_mutex_;
   std::string lease_holder_;  // holder of the lease last published
@@ -181,10 +220,8 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;
-  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;
-  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
-  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;
-  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> ping_;
+  std::vector<std::unique_ptr<SenderReaders>> senders_;
+  std::unique_ptr<PingReader> unlisted_ping_;  // every client partition
 };
 
 }  // namespace mostar::server

@@ -89,7 +89,7 @@ TEST(RobotNodeTest, AFrozenObserverCannotStopTheVideoOfTheOthers) {
   video.window_pairs = 2;
   video.lane_timeout = std::chrono::milliseconds(300);
   std::string error;
-  auto node = RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error, video);
+  auto node = RobotNode::Create(robot.get(), {}, {}, &SystemClock::Instance(), &error, video);
   ASSERT_NE(node, nullptr) << error;
   std::atomic<int> viewer_frames{0};
   dds::Reader<ImageType> left(*viewer, dds::topics::kCameraLeft, dds::Stream::kVideo,
@@ -135,7 +135,7 @@ TEST(RobotNodeTest, TheAckClockRunsOnAcknowledgementsNotOnTheRepairPeriod) {
   video.lane_timeout = std::chrono::seconds(60);  // no reclaiming
   video.repair_period = std::chrono::milliseconds(3000);
   std::string error;
-  auto node = RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error, video);
+  auto node = RobotNode::Create(robot.get(), {}, {}, &SystemClock::Instance(), &error, video);
   ASSERT_NE(node, nullptr) << error;
   testing::Subprocess observer;
   uint64_t sequence = 0;
@@ -164,7 +164,7 @@ TEST(RobotNodeTest, HealthSaysWhenDdsSecurityIsOff) {
   std::string error;
   auto insecure = dds::Participant::Create(options, &error);
   ASSERT_NE(insecure, nullptr) << error;
-  auto node = RobotNode::Create(insecure.get(), {}, &SystemClock::Instance(), &error);
+  auto node = RobotNode::Create(insecure.get(), {}, {}, &SystemClock::Instance(), &error);
   ASSERT_NE(node, nullptr) << error;
   const DeviceHealth network = node->NetworkHealth();
   const auto counter = [](const DeviceHealth& health, const std::string& name) {
@@ -182,7 +182,7 @@ TEST(RobotNodeTest, HealthSaysWhenDdsSecurityIsOff) {
 
   auto loopback = MakeParticipant("robot");
   ASSERT_TRUE(loopback);
-  node = RobotNode::Create(loopback.get(), {}, &SystemClock::Instance(), &error);
+  node = RobotNode::Create(loopback.get(), {}, {}, &SystemClock::Instance(), &error);
   ASSERT_NE(node, nullptr) << error;
   EXPECT_EQ(counter(node->NetworkHealth(), "dds_security_off"), 0u);
   EXPECT_EQ(node->NetworkHealth().state, DeviceState::kOk);
@@ -199,7 +199,7 @@ TEST(RobotNodeTest, PublishesTheSonarRingEachSensorsRangeAndTheBumperState) {
   auto viewer = MakeParticipant("operator");
   ASSERT_TRUE(robot && viewer);
   std::string error;
-  auto node = RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error);
+  auto node = RobotNode::Create(robot.get(), {}, {}, &SystemClock::Instance(), &error);
   ASSERT_NE(node, nullptr) << error;
   BumperState bumpers;
   bumpers.stamp = SystemClock::Instance().Now();
@@ -264,11 +264,13 @@ TEST(RobotNodeTest, RejectsAnInvalidVideoWindow) {
   std::string error;
   RobotVideoOptions video;
   video.window_pairs = 0;
-  EXPECT_EQ(RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error, video), nullptr);
+  EXPECT_EQ(RobotNode::Create(robot.get(), {}, {}, &SystemClock::Instance(), &error, video),
+            nullptr);
   EXPECT_NE(error.find("at least one pair"), std::string::npos) << error;
   video.window_pairs = 1;
   video.lane_timeout = Duration::zero();
-  EXPECT_EQ(RobotNode::Create(robot.get(), {}, &SystemClock::Instance(), &error, video), nullptr);
+  EXPECT_EQ(RobotNode::Create(robot.get(), {}, {}, &SystemClock::Instance(), &error, video),
+            nullptr);
   EXPECT_NE(error.find("lane timeout"), std::string::npos) << error;
 }
 

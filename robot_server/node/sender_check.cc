@@ -25,9 +25,7 @@ const char* SenderVerdictName(SenderVerdict verdict) {
     case SenderVerdict::kUnverified:
       return "unverified (no DDS Security)";
     case SenderVerdict::kMismatch:
-      return "sender_id is not the writer's certificate";
-    case SenderVerdict::kUnidentified:
-      return "the writer has no verified identity";
+      return "sender_id is not the client whose partition it came in";
     case SenderVerdict::kInvalidId:
       return "invalid sender_id";
   }
@@ -35,33 +33,27 @@ const char* SenderVerdictName(SenderVerdict verdict) {
 }
 
 SenderVerdict SenderCheck::Check(SenderChannel channel, const std::string& sender_id,
-                                 const std::optional<std::string>& authenticated) {
+                                 const std::string& partition_client) {
   SenderVerdict verdict;
   if (!identity::IsValidClientId(sender_id)) {
     verdict = SenderVerdict::kInvalidId;
     ++invalid_;
-  } else if (!identities_verified_) {
-    verdict = SenderVerdict::kUnverified;
-  } else if (!authenticated) {
-    verdict = SenderVerdict::kUnidentified;
-    ++unidentified_;
-  } else if (*authenticated != sender_id) {
+  } else if (sender_id != partition_client) {
     verdict = SenderVerdict::kMismatch;
     ++mismatch_;
   } else {
-    verdict = SenderVerdict::kVerified;
+    verdict = identities_verified_ ? SenderVerdict::kVerified : SenderVerdict::kUnverified;
   }
   if (!Admits(verdict)) ++dropped_by_channel_[static_cast<size_t>(channel)];
   return verdict;
 }
 
-uint64_t SenderCheck::dropped() const { return mismatch_ + unidentified_ + invalid_; }
+uint64_t SenderCheck::dropped() const { return mismatch_ + invalid_; }
 
 std::vector<std::pair<std::string, uint64_t>> SenderCheck::HealthCounters() const {
   std::vector<std::pair<std::string, uint64_t>> out = {
       {"identities_verified", identities_verified_ ? 1 : 0},
       {"sender_mismatch_dropped", mismatch_.load()},
-      {"sender_unidentified_dropped", unidentified_.load()},
       {"sender_invalid_dropped", invalid_.load()}};
   for (size_t c = 0; c < dropped_by_channel_.size(); ++c) {
     out.emplace_back(std::string("dropped_") + SenderChannelName(static_cast<SenderChannel>(c)),

@@ -1,19 +1,22 @@
 // Whether a command, control request, e-stop or clock ping may be believed to come from the
 // client its `sender_id` names.
 //
-// With DDS Security (identities verified) a sample counts only when its sender_id is the client
-// id of the authenticated participant that wrote it (its certificate's CN,
-// common/dds/security.h); otherwise it is dropped: kMismatch when the writer is another
-// client, kUnidentified when the writer's participant has no verified client id. Without DDS
-// Security nothing can be verified: samples pass as kUnverified and the robot's health says so
-// (identities_verified = 0). A sender_id that is no valid client id is dropped either way.
-// Drops are counted per reason and per channel. Thread-safe (atomic counters).
+// The robot reads each client of its role table in that client's own DDS partition
+// (common/identity/sender_partition.h), so every sample comes with the client id of the
+// partition it arrived in. With DDS Security that id is proven: the permissions of the
+// certificate that authenticated in the handshake allow it to write in its own partition only,
+// and Fast DDS' access control matches no other writer there. A sample counts only when its
+// sender_id is that id; otherwise it is dropped (kMismatch). Nothing a participant announces
+// (its GUID, the certificate in its USER_DATA) enters the decision. Without DDS Security the
+// partition is as much a claim as the sender_id: samples whose ids agree pass as kUnverified and
+// the robot's health says so (identities_verified = 0). A sender_id that is no valid client id
+// is dropped either way. Drops are counted per reason and per channel. Thread-safe (atomic
+// counters).
 #pragma once
 
 #include <array>
 #include <atomic>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,10 +27,9 @@ enum class SenderChannel : uint8_t { kCommand = 0, kEmergencyStop, kControlReque
 const char* SenderChannelName(SenderChannel channel);
 
 enum class SenderVerdict : uint8_t {
-  kVerified = 0,  // sender_id is the writer's authenticated client id
-  kUnverified,    // no DDS Security: sender_id taken as written
-  kMismatch,      // the writer is authenticated as another client
-  kUnidentified,  // DDS Security on, but the writer has no verified client id
+  kVerified = 0,  // sender_id is the client whose partition it came in, proven by permissions
+  kUnverified,    // no DDS Security: the ids agree but prove nothing
+  kMismatch,      // sender_id is not the client whose partition it came in
   kInvalidId,     // sender_id is no valid client id
 };
 const char* SenderVerdictName(SenderVerdict verdict);
@@ -36,10 +38,10 @@ class SenderCheck {
  public:
   explicit SenderCheck(bool identities_verified) : identities_verified_(identities_verified) {}
 
-  // `authenticated`: the client id of the participant that wrote the sample (nullopt when
-  // unknown). Counts the verdict.
+  // `partition_client`: the client id of the partition the sample arrived in. Counts the
+  // verdict.
   SenderVerdict Check(SenderChannel channel, const std::string& sender_id,
-                      const std::optional<std::string>& authenticated);
+                      const std::string& partition_client);
   static bool Admits(SenderVerdict verdict) {
     return verdict == SenderVerdict::kVerified || verdict == SenderVerdict::kUnverified;
   }
@@ -48,14 +50,13 @@ class SenderCheck {
   // Samples dropped so far, all channels and reasons.
   uint64_t dropped() const;
   // For the "network" health device: identities_verified (1/0), drops per reason
-  // (sender_mismatch_dropped, sender_unidentified_dropped, sender_invalid_dropped) and per
-  // channel (dropped_cmd_vel, dropped_estop, dropped_control_request, dropped_clock_ping).
+  // (sender_mismatch_dropped, sender_invalid_dropped) and per channel (dropped_cmd_vel,
+  // dropped_estop, dropped_control_request, dropped_clock_ping).
   std::vector<std::pair<std::string, uint64_t>> HealthCounters() const;
 
  private:
   const bool identities_verified_;
   std::atomic<uint64_t> mismatch_{0};
-  std::atomic<uint64_t> unidentified_{0};
   std::atomic<uint64_t> invalid_{0};
   std::array<std::atomic<uint64_t>, 4> dropped_by_channel_{};
 };

@@ -13,42 +13,35 @@ std::map<std::string, uint64_t> Counters(const SenderCheck& check) {
   return out;
 }
 
-TEST(SenderCheckTest, WithIdentitiesOnlyTheWritersOwnIdPasses) {
+TEST(SenderCheckTest, WithIdentitiesOnlyThePartitionsOwnIdPasses) {
   SenderCheck check(/*identities_verified=*/true);
-  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", std::string("alice")),
-            SenderVerdict::kVerified);
-  // Bob's certificate posing as Alice.
-  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", std::string("bob")),
-            SenderVerdict::kMismatch);
-  EXPECT_EQ(check.Check(SenderChannel::kControlRequest, "alice", std::string("bob")),
-            SenderVerdict::kMismatch);
+  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", "alice"), SenderVerdict::kVerified);
+  // Bob, in his own partition (the only one his permissions allow), posing as Alice.
+  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", "bob"), SenderVerdict::kMismatch);
+  EXPECT_EQ(check.Check(SenderChannel::kControlRequest, "alice", "bob"), SenderVerdict::kMismatch);
   // An observer releasing the e-stop under a pilot's id.
-  EXPECT_EQ(check.Check(SenderChannel::kEmergencyStop, "alice", std::string("carol")),
-            SenderVerdict::kMismatch);
+  EXPECT_EQ(check.Check(SenderChannel::kEmergencyStop, "alice", "carol"), SenderVerdict::kMismatch);
   // A forged ping keyed by Alice's id.
-  EXPECT_EQ(check.Check(SenderChannel::kClockPing, "alice", std::string("bob")),
-            SenderVerdict::kMismatch);
-  // A writer without a verified identity (no certificate announced, or another vendor).
-  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", std::nullopt),
-            SenderVerdict::kUnidentified);
+  EXPECT_EQ(check.Check(SenderChannel::kClockPing, "alice", "bob"), SenderVerdict::kMismatch);
   const auto counters = Counters(check);
   EXPECT_EQ(counters.at("identities_verified"), 1u);
   EXPECT_EQ(counters.at("sender_mismatch_dropped"), 4u);
-  EXPECT_EQ(counters.at("sender_unidentified_dropped"), 1u);
-  EXPECT_EQ(counters.at("dropped_cmd_vel"), 2u);
+  EXPECT_EQ(counters.count("sender_unidentified_dropped"), 0u);
+  EXPECT_EQ(counters.at("dropped_cmd_vel"), 1u);
   EXPECT_EQ(counters.at("dropped_control_request"), 1u);
   EXPECT_EQ(counters.at("dropped_estop"), 1u);
   EXPECT_EQ(counters.at("dropped_clock_ping"), 1u);
-  EXPECT_EQ(check.dropped(), 5u);
+  EXPECT_EQ(check.dropped(), 4u);
 }
 
-TEST(SenderCheckTest, WithoutIdentitiesIdsPassUnverifiedAndHealthSaysSo) {
+TEST(SenderCheckTest, WithoutIdentitiesAgreeingIdsPassUnverifiedAndHealthSaysSo) {
   SenderCheck check(/*identities_verified=*/false);
-  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", std::nullopt),
-            SenderVerdict::kUnverified);
+  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", "alice"), SenderVerdict::kUnverified);
   EXPECT_TRUE(SenderCheck::Admits(SenderVerdict::kUnverified));
+  // Ids that disagree are dropped even unverified: an honest client writes in its own partition.
+  EXPECT_EQ(check.Check(SenderChannel::kCommand, "alice", "bob"), SenderVerdict::kMismatch);
   EXPECT_EQ(Counters(check).at("identities_verified"), 0u);
-  EXPECT_EQ(check.dropped(), 0u);
+  EXPECT_EQ(check.dropped(), 1u);
 }
 
 TEST(SenderCheckTest, InvalidIdsAreDroppedEitherWay) {

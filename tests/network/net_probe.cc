@@ -36,6 +36,8 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
+#include "common/identity/client_id.h"
+#include "common/identity/sender_partition.h"
 #include "common/process/stop_signals.h"
 #include "common/stats/percentile.h"
 #include "common/time/time.h"
@@ -145,6 +147,14 @@ int Main(int argc, char** argv) {
   namespace topics = dds::topics;
   using dds::Stream;
   auto& p = *participant;
+  // Pings and e-stops go out in this client's partition: its certificate's CN, or --id.
+  const std::string own_id =
+      participant->own_client_id().empty() ? id : participant->own_client_id();
+  if (!identity::IsValidClientId(own_id)) {
+    std::cerr << "net_probe: --id '" << own_id << "' is not a valid client id\n";
+    return 2;
+  }
+  const std::string partition = identity::SenderPartition(own_id);
   std::atomic<bool> robot_estop{false};                     // as the robot's last health said
   std::atomic<int> scan_beams_min{-1}, scan_beams_max{-1};  // beams per scan (one DDS thread)
   dds::Reader<sensor_msgs::msg::dds_::CompressedImage_PubSubType> left(
@@ -189,7 +199,7 @@ int Main(int argc, char** argv) {
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> ping_writer;
   if (ping) {
     ping_writer = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>>(
-        p, topics::kClockPing, Stream::kControl);
+        p, topics::kClockPing, dds::InPartition(dds::WriterQos(Stream::kControl), partition));
   }
   const std::vector<std::pair<const char*, bool>> endpoints = {
       {"left", left.ok()},     {"right", right.ok()},
@@ -204,15 +214,15 @@ int Main(int argc, char** argv) {
   }
   std::string command_writer = "none";
   if (try_command_writer) {
-    dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType> command(p, topics::kCommand,
-                                                                            Stream::kCommand, 1);
+    dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType> command(
+        p, topics::kCommand, dds::InPartition(dds::WriterQos(Stream::kCommand), partition));
     command_writer = command.ok() ? "ok" : "refused";
   }
 
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_writer;
   if (estop_at_s >= 0) {
     estop_writer = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>>(
-        p, topics::kEmergencyStop, Stream::kControl);
+        p, topics::kEmergencyStop, dds::InPartition(dds::WriterQos(Stream::kControl), partition));
     if (!estop_writer->ok()) {
       std::cerr << "net_probe: cannot create the e-stop writer\n";
       return 2;

@@ -8,6 +8,11 @@
 #
 # Usage: attack_test.sh ROBOT_SERVER ATTACKER IDENTITY_ACTOR SOURCE_DIR
 #
+# Whatever acts as a client X writes in X's DDS partition "mostar.client.X", where the robot reads
+# X. The insider rows (insider_pilot_*, insider_observer_*) write as alice, the live pilot, in
+# alice's partition and in their own; without DDS Security the participant without a certificate
+# plays mallory and carol there.
+#
 # Checks: on the secure profile every attack is blocked, and the robot is alive and still
 # publishing health at the end; without DDS Security the attacks the design leaves open there
 # (docs/security.md, Attacks) are open, and the robot survives the floods and malformed samples.
@@ -74,12 +79,12 @@ run() {
   local robot_pid=$!
   pids+=("$robot_pid")
   ip netns exec "$operator_ns" "$actor" --domain "$domain" --dds-profile "$alice_profile" \
-    "${extra[@]}" --sender-id alice --take --commands idle --pings --duration-s 240 \
+    "${extra[@]}" --sender-id alice --take --commands idle --pings --duration-s 300 \
     > "$work/$mode.alice.log" 2>&1 &
   local alice_pid=$!
   pids+=("$alice_pid")
   local status=0
-  ip netns exec "$operator_ns" timeout 200 "$attacker" --domain "$domain" --victim alice \
+  ip netns exec "$operator_ns" timeout 260 "$attacker" --domain "$domain" --victim alice \
     --claim bob --robot-pid "$robot_pid" "$@" > "$work/$mode.attacks" 2> "$work/$mode.attacker.err" \
     || status=$?
   cat "$work/$mode.attacks"
@@ -92,31 +97,40 @@ run() {
 }
 
 echo "== without DDS Security (lan.xml)"
-run insecure "$profile" "$profile"
+# Without certificates: mallory and carol are only the ids the insider rows play.
+run insecure "$profile" "$profile" --pilot-cert mallory --observer-cert carol
 echo "== DDS Security (lan.xml through make_pki.sh)"
 run secure "$work/pki/robot.xml" "$work/pki/alice.xml" --pki "$work/pki" --pilot-cert mallory \
   --observer-cert carol --witness-cert watcher
 
+insiders="insider_pilot_lease insider_pilot_drive insider_pilot_stale_pings
+  insider_pilot_estop_release insider_observer_lease insider_observer_drive
+  insider_observer_stale_pings insider_observer_estop_release"
 attacks="eavesdrop lease_as_another_pilot arm_and_drive_forward reverse hijack_live_pilot
-  replay_stale_command forged_clock_pings estop_release_as_observer strings_1mb
+  replay_stale_command forged_clock_pings estop_release_as_observer $insiders strings_1mb
   distinct_ids_10000 malformed_samples"
 # The attacks the design leaves open without DDS Security: anyone reads, and ids are taken as
 # written (docs/security.md, Attacks).
+# Insiders in alice's partition: the partition is only a claim there. Their stale pings race
+# alice's own pings for the estimate, as forged_clock_pings does: not asserted.
 open_insecure="eavesdrop lease_as_another_pilot arm_and_drive_forward reverse hijack_live_pilot
-  estop_release_as_observer"
+  estop_release_as_observer insider_pilot_lease insider_pilot_drive insider_pilot_estop_release
+  insider_observer_lease insider_observer_drive insider_observer_estop_release"
 outcome() { sed -n "s/^ATTACK name=$2 outcome=\([a-z]*\) .*/\1/p" "$work/$1.attacks" | head -1; }
 how() {
   case $1 in
     eavesdrop) echo "authentication required, topic data encrypted (governance)" ;;
-    lease_as_another_pilot) echo "I1: sender_id must be the writer's certificate CN" ;;
-    arm_and_drive_forward|reverse) echo "I1, then L1/G1: only the lease holder's commands count" ;;
-    hijack_live_pilot) echo "I1; shared ownership (an exclusive writer does not match); L3 strengths from the role table" ;;
-    replay_stale_command) echo "G3/G4 stale stamps refused (with or without Security); I1" ;;
-    forged_clock_pings) echo "I1: pings under another id dropped; offsets per verified id" ;;
-    estop_release_as_observer) echo "G10: only the lease holder releases; I1" ;;
+    lease_as_another_pilot) echo "permissions: writers only in the certificate's own partition; I1: sender_id must be the partition's client" ;;
+    arm_and_drive_forward|reverse) echo "permissions and I1, then L1/G1: only the lease holder's commands count" ;;
+    hijack_live_pilot) echo "permissions and I1; shared ownership (an exclusive writer does not match); L3 strengths from the role table" ;;
+    replay_stale_command) echo "G3/G4 stale stamps refused (with or without Security); permissions and I1" ;;
+    forged_clock_pings) echo "permissions and I1: pings under another id never count; offsets per partition client" ;;
+    estop_release_as_observer) echo "G10: only the lease holder releases; permissions and I1" ;;
     strings_1mb) echo "bounded IDL; readers preallocate the maximum sample size and refuse bigger ones" ;;
     distinct_ids_10000) echo "I1 drops other ids; at most 32 clock clients; bounded reader histories" ;;
     malformed_samples) echo "samples that do not deserialize are dropped; I1 and the governor check the rest" ;;
+    insider_*)
+      echo "permissions: a writer in another client's partition is refused by access control (never matched); in its own partition, sender_id must be its own (I1)" ;;
   esac
 }
 echo

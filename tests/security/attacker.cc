@@ -7,12 +7,22 @@
 // then "ROBOT alive=yes|no health_age_s=S". An attack is "open" when the robot did what the
 // attacker wanted (it published it, or its simulated motors moved, as odometry shows).
 //
-// Credentials: a participant without any certificate always attacks. With --pki DIR (a PKI made
-// by deploy/security/make_pki.sh) two insiders attack too: --pilot-cert (a pilot certificate of
-// the role table, weaker than the victim) and --observer-cert (an observer certificate). Each
-// insider announces its certificate in USER_DATA as mostar participants do ("mostar.cert.der.1:"
-// then the DER from NAME.cert.der), so that the robot knows who it is. The robot's state is
-// watched by a separate witness participant (--witness-cert under --pki: a legitimate observer).
+// Partitions: the robot reads commands, e-stops, control requests and clock pings of each client
+// of its role table in that client's DDS partition "mostar.client.<id>" (and clock pings of
+// other ids in "mostar.client.*"), so whatever acts "as X" writes in X's partition.
+//
+// Credentials: a participant without any certificate always attacks; it writes as X in X's
+// partition. With --pki DIR (a PKI made by deploy/security/make_pki.sh) two insiders attack too:
+// --pilot-cert (a pilot certificate of the role table, weaker than the victim) and
+// --observer-cert (an observer certificate). Each insider announces its certificate in USER_DATA
+// as mostar participants do ("mostar.cert.der.1:" then the DER from NAME.cert.der), so that the
+// robot knows who it is. An insider acts as X twice: in its own partition with sender_id X, and
+// in X's partition. Its local access control refuses a writer in X's partition, so it makes the
+// writer in its own partition and then moves the publisher to X's partition: the robot sees a
+// writer announced in X's partition, as from a modified DDS stack. Without --pki,
+// --pilot-cert and --observer-cert only name the ids the participant without a certificate
+// plays in the insider attacks. The robot's state is watched by a separate witness participant
+// (--witness-cert under --pki: a legitimate observer).
 //
 // Expects a live pilot (--victim) holding the lease at start, sending idle commands
 // (enable=false) and clock pings; --claim is a stronger pilot id of the role table that no
@@ -78,6 +88,10 @@ constexpr const char* kCommandType = "mostar_msgs::msg::dds_::VelocityCommand_";
 constexpr const char* kEstopType = "mostar_msgs::msg::dds_::EmergencyStop_";
 constexpr const char* kRequestType = "mostar_msgs::msg::dds_::ControlRequest_";
 constexpr const char* kPingType = "mostar_msgs::msg::dds_::ClockProbe_";
+// The partition a client writes those four topics in (common/identity/sender_partition.h).
+constexpr const char* kPartitionPrefix = "mostar.client.";
+constexpr const char* kAnyClientPartition = "mostar.client.*";
+std::string PartitionOf(const std::string& client_id) { return kPartitionPrefix + client_id; }
 
 // Odometry faster than this (m/s) means the robot moved; the attacks drive at 0.15-0.3 m/s.
 constexpr double kMovedMps = 0.08;
@@ -228,6 +242,13 @@ fdds::DataReaderQos ReaderQos(bool reliable) {
   return qos;
 }
 
+// `qos` in the one partition `partition`: the Fast DDS 2.9 endpoint property mostar sets.
+template <class Qos>
+Qos InPartition(Qos qos, const std::string& partition) {
+  qos.properties().properties().emplace_back("partitions", partition);
+  return qos;
+}
+
 std::vector<uint8_t> ReadFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
@@ -320,24 +341,45 @@ class Peer {
   const std::string& label() const { return label_; }
   const std::string& cert() const { return cert_; }
 
-  // nullptr when refused (permissions) or the topic cannot be made.
+  // nullptr when refused (permissions) or the topic cannot be made. `publisher` null: the
+  // peer's default publisher (no partition of its own).
   fdds::DataWriter* Writer(const char* topic, fdds::TypeSupport type,
-                           const fdds::DataWriterQos& qos) {
+                           const fdds::DataWriterQos& qos, fdds::Publisher* publisher = nullptr) {
     fdds::Topic* t = TopicOf(topic, type);
-    return t == nullptr ? nullptr : publisher_->create_datawriter(t, qos);
+    if (t == nullptr) return nullptr;
+    return (publisher == nullptr ? publisher_ : publisher)->create_datawriter(t, qos);
   }
   template <class PubSub>
-  fdds::DataWriter* Writer(const char* topic, const fdds::DataWriterQos& qos) {
-    return Writer(topic, fdds::TypeSupport(new PubSub()), qos);
+  fdds::DataWriter* Writer(const char* topic, const fdds::DataWriterQos& qos,
+                           fdds::Publisher* publisher = nullptr) {
+    return Writer(topic, fdds::TypeSupport(new PubSub()), qos, publisher);
   }
+  // A publisher of its own in partition `partition`.
+  fdds::Publisher* PublisherIn(const std::string& partition) {
+    fdds::PublisherQos qos = fdds::PUBLISHER_QOS_DEFAULT;
+    qos.partition().push_back(partition.c_str());
+    return participant_->create_publisher(qos);
+  }
+  // Moves `publisher` and its writers to partition `partition`. Fast DDS checks a local
+  // writer's partitions against its own permissions only when the writer is created; the new
+  // partition is announced to the others as it is.
+  static bool MovePublisher(fdds::Publisher* publisher, const std::string& partition) {
+    fdds::PublisherQos qos = publisher->get_qos();
+    qos.partition().clear();
+    qos.partition().push_back(partition.c_str());
+    return publisher->set_qos(qos) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+  // `partition` empty: the default partition.
   template <class PubSub>
   bool Read(const char* topic, bool reliable,
-            std::function<void(const typename PubSub::type&)> on_sample) {
+            std::function<void(const typename PubSub::type&)> on_sample,
+            const std::string& partition = "") {
     fdds::Topic* t = TopicOf(topic, fdds::TypeSupport(new SafeType<PubSub>()));
     if (t == nullptr) return false;
     auto listener = std::make_unique<TakeListener<typename PubSub::type>>(std::move(on_sample));
-    fdds::DataReader* reader =
-        subscriber_->create_datareader(t, ReaderQos(reliable), listener.get());
+    const fdds::DataReaderQos qos =
+        partition.empty() ? ReaderQos(reliable) : InPartition(ReaderQos(reliable), partition);
+    fdds::DataReader* reader = subscriber_->create_datareader(t, qos, listener.get());
     if (reader == nullptr) return false;
     readers_.push_back(reader);
     listeners_.push_back(std::move(listener));
@@ -440,6 +482,16 @@ class Witness {
     std::lock_guard<std::mutex> lock(mutex_);
     return std::find(holders_seen_.begin(), holders_seen_.end(), id) != holders_seen_.end();
   }
+  // The holders seen since the window was reset, other than `id` ("none" for a free lease).
+  std::vector<std::string> HoldersOtherThan(const std::string& id) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::string> out;
+    for (const std::string& h : holders_seen_) {
+      const std::string name = h.empty() ? "none" : h;
+      if (h != id && std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+    }
+    return out;
+  }
   bool Estop() const { return Locked(estop_); }
   int Healths() const { return Locked(healths_); }
   // Seconds since the last health sample arrived; a large number when none did.
@@ -494,27 +546,53 @@ class Witness {
   std::map<std::string, int64_t> counters_;
 };
 
-// An attacking participant and its writers on the robot's input topics (nullptr where refused).
-struct Attacker {
-  std::unique_ptr<Peer> peer;      // typed samples
-  std::unique_ptr<Peer> raw_peer;  // hand-made CDR under the same type names
+// One attacker's writers of the four topics the robot reads, in the partition of client `id`
+// (nullptr where refused). `how`: "claimed" (the participant without a certificate: nothing
+// checks it), "own" (an insider in its own partition), "moved" (an insider's writers made in its
+// own partition, then moved to `id`'s: its local access control refused them there), "direct"
+// (an insider's local access control let it create them in `id`'s partition).
+struct WriterSet {
+  std::string id;
+  std::string how;
   fdds::DataWriter* command = nullptr;
   fdds::DataWriter* request = nullptr;
   fdds::DataWriter* estop = nullptr;
   fdds::DataWriter* ping = nullptr;
-  std::map<std::string, fdds::DataWriter*> raw;  // by topic
 
-  std::string Refused() const {
-    std::string out;
+  // "alice[moved]", with the topics that have no writer: "alice[moved;no cmd_vel,request]".
+  std::string Text() const {
+    std::string refused;
     for (const auto& [name, writer] :
          {std::pair<const char*, fdds::DataWriter*>{"cmd_vel", command},
           {"request", request},
           {"estop", estop},
           {"ping", ping}}) {
-      if (writer == nullptr) out += (out.empty() ? "" : ",") + std::string(name);
+      if (writer == nullptr) refused += (refused.empty() ? "" : ",") + std::string(name);
     }
-    return out.empty() ? "none" : out;
+    return id + "[" + how + (refused.empty() ? "" : ";no " + refused) + "]";
   }
+};
+
+// An attacking participant and its writers on the robot's input topics.
+struct Attacker {
+  std::unique_ptr<Peer> peer;             // typed samples
+  std::unique_ptr<Peer> raw_peer;         // hand-made CDR under the same type names
+  std::string self;                       // its certificate's CN; empty without a certificate
+  std::string primary;                    // the partition of its raw writers and floods
+  std::map<std::string, WriterSet> sets;  // by the client id of the partition
+  std::map<std::string, fdds::DataWriter*> raw;  // by topic, in `primary`'s partition
+
+  const WriterSet* Set(const std::string& id) const {
+    auto it = sets.find(id);
+    return it == sets.end() ? nullptr : &it->second;
+  }
+};
+
+// A way to write "as `sender`": the writers of one partition and the sender_id to put in.
+struct Route {
+  const Attacker* attacker;
+  const WriterSet* set;
+  std::string sender;
 };
 
 size_t Matched(fdds::DataWriter* writer) {
@@ -576,14 +654,17 @@ class Suite {
                                             [this](const auto&) { ++heard_health_; });
     anon->Read<nav_msgs::msg::dds_::Odometry_PubSubType>(kOdometry, false,
                                                          [this](const auto&) { ++heard_odom_; });
+    // Pilots write commands in their own partitions: the pattern matches them all.
     anon->Read<msg::VelocityCommand_PubSubType>(
-        kCommand, false, [this](const msg::VelocityCommand_& c) {
+        kCommand, false,
+        [this](const msg::VelocityCommand_& c) {
           std::lock_guard<std::mutex> lock(mutex_);
           ++heard_commands_;
           if (c.sender_id().to_string() == options_.victim) {
             captured_ = c;
           }
-        });
+        },
+        kAnyClientPartition);
     anon->Read<msg::ClockProbe_PubSubType>(kPong, false, [this](const msg::ClockProbe_& p) {
       std::lock_guard<std::mutex> lock(mutex_);
       pongs_[p.sequence_number()] = p;
@@ -602,10 +683,17 @@ class Suite {
       return 1;
     }
     WaitMatchedWriters(8s);
+    // Writers as seen from here, matched/known per topic (cmd_vel, request, estop, ping).
     std::cout << "attacker: witness ready; credentials:";
     for (const Attacker& a : attackers_) {
-      std::cout << " " << a.peer->label() << "(refused=" << a.Refused()
-                << " matched_cmd=" << Matched(a.command) << ")";
+      std::cout << " " << a.peer->label() << "(";
+      bool first = true;
+      for (const auto& [id, set] : a.sets) {
+        std::cout << (first ? "" : " ") << set.Text() << "=" << Matched(set.command) << "/"
+                  << Matched(set.request) << "/" << Matched(set.estop) << "/" << Matched(set.ping);
+        first = false;
+      }
+      std::cout << ")";
     }
     std::cout << std::endl;
 
@@ -615,8 +703,13 @@ class Suite {
     Drive("reverse", -0.15);
     HijackLivePilot();
     ReplayStaleCommand();
+    // Insiders in the live pilot's partition, while nothing has touched its clock offset.
+    for (const Insider& in : Insiders()) InsiderLease(in);
+    for (const Insider& in : Insiders()) InsiderDrive(in);
     ForgedClockPings();
+    for (const Insider& in : Insiders()) InsiderStalePings(in);
     EstopReleaseWithoutTheHoldersIdentity();
+    for (const Insider& in : Insiders()) InsiderEstopRelease(in);
     HugeStrings();
     DistinctIds();
     MalformedSamples();
@@ -630,6 +723,20 @@ class Suite {
   }
 
  private:
+  // Every client id some attack acts as (or as whose partition an insider writes).
+  std::vector<std::string> ClaimedIds() const {
+    std::vector<std::string> ids;
+    for (const std::string& id : {options_.victim, options_.claim, Engager(), options_.pilot_cert,
+                                  options_.observer_cert}) {
+      if (!id.empty() && std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+    }
+    return ids;
+  }
+  // The observer that engages the e-stop.
+  std::string Engager() const {
+    return options_.observer_cert.empty() ? "carol" : options_.observer_cert;
+  }
+
   bool AddAttacker(const std::string& label, const std::string& cert) {
     Attacker a;
     a.peer = Peer::Create(options_.domain, label, options_.pki, cert, true);
@@ -638,10 +745,10 @@ class Suite {
       std::cerr << "attacker: participant " << label << " could not be made\n";
       return false;
     }
-    a.command = a.peer->Writer<msg::VelocityCommand_PubSubType>(kCommand, CommandWriterQos());
-    a.request = a.peer->Writer<msg::ControlRequest_PubSubType>(kRequest, ControlWriterQos());
-    a.estop = a.peer->Writer<msg::EmergencyStop_PubSubType>(kEstop, ControlWriterQos());
-    a.ping = a.peer->Writer<msg::ClockProbe_PubSubType>(kPing, ControlWriterQos());
+    a.self = cert;
+    a.primary = cert.empty() ? options_.victim : cert;
+    for (const std::string& id : ClaimedIds()) MakeSet(a, id);
+    if (!cert.empty()) MakeSet(a, cert);
     constexpr uint32_t kRawMax = 2u << 20;
     for (const auto& [topic, type] :
          std::vector<std::pair<const char*, const char*>>{{kCommand, kCommandType},
@@ -651,20 +758,64 @@ class Suite {
       const bool command = std::string(topic) == kCommand;
       fdds::DataWriterQos qos = command ? CommandWriterQos() : ControlWriterQos();
       qos.history().depth = 4;
-      fdds::DataWriter* w =
-          a.raw_peer->Writer(topic, fdds::TypeSupport(new RawType(type, kRawMax)), qos);
+      fdds::DataWriter* w = a.raw_peer->Writer(topic, fdds::TypeSupport(new RawType(type, kRawMax)),
+                                               InPartition(qos, PartitionOf(a.primary)));
       if (w != nullptr) a.raw[topic] = w;
     }
     attackers_.push_back(std::move(a));
     return true;
   }
 
+  // The writers of `a` in the partition of client `id`. The participant without a certificate
+  // and an insider in its own partition create them there; an insider in another client's
+  // partition first tries that (its own access control refuses), then creates them in its own
+  // partition and moves them.
+  void MakeSet(Attacker& a, const std::string& id) {
+    if (a.sets.count(id) != 0) return;
+    WriterSet set;
+    set.id = id;
+    const std::string partition = PartitionOf(id);
+    auto make = [&](fdds::Publisher* publisher, const std::string& in) {
+      auto qos = [&](fdds::DataWriterQos q) { return in.empty() ? q : InPartition(q, in); };
+      set.command = a.peer->Writer<msg::VelocityCommand_PubSubType>(
+          kCommand, qos(CommandWriterQos()), publisher);
+      set.request = a.peer->Writer<msg::ControlRequest_PubSubType>(
+          kRequest, qos(ControlWriterQos()), publisher);
+      set.estop =
+          a.peer->Writer<msg::EmergencyStop_PubSubType>(kEstop, qos(ControlWriterQos()), publisher);
+      set.ping =
+          a.peer->Writer<msg::ClockProbe_PubSubType>(kPing, qos(ControlWriterQos()), publisher);
+    };
+    if (a.self.empty() || a.self == id) {
+      set.how = a.self.empty() ? "claimed" : "own";
+      make(nullptr, partition);
+    } else {
+      make(nullptr, partition);
+      if (set.command != nullptr || set.request != nullptr || set.estop != nullptr ||
+          set.ping != nullptr) {
+        set.how = "direct";  // the local access control did not refuse
+      } else {
+        set.how = "moved";
+        fdds::Publisher* publisher = a.peer->PublisherIn(PartitionOf(a.self));
+        if (publisher != nullptr) {
+          make(publisher, "");
+          if (!Peer::MovePublisher(publisher, partition)) set.how = "move_failed";
+        }
+      }
+    }
+    a.sets[id] = set;
+  }
+
   void WaitMatchedWriters(std::chrono::seconds timeout) {
     const auto deadline = Clock::now() + timeout;
+    // Moved writers are not expected to match (with DDS Security the robot refuses them).
     auto all = [this] {
       for (const Attacker& a : attackers_) {
-        for (fdds::DataWriter* w : {a.command, a.request, a.estop, a.ping}) {
-          if (w != nullptr && Matched(w) == 0) return false;
+        for (const auto& [id, set] : a.sets) {
+          if (set.how == "moved") continue;
+          for (fdds::DataWriter* w : {set.command, set.request, set.estop, set.ping}) {
+            if (w != nullptr && Matched(w) == 0) return false;
+          }
         }
         for (const auto& [topic, w] : a.raw) {
           if (Matched(w) == 0) return false;
@@ -681,10 +832,48 @@ class Suite {
     return witness_.Holder() == id;
   }
 
-  // The ids an attacker writes under: the claimed ones, and its own certificate's name.
-  static std::vector<std::string> Ids(const Attacker& a, std::vector<std::string> claimed) {
-    if (!a.peer->cert().empty()) claimed.push_back(a.peer->cert());
-    return claimed;
+  // How `a` writes as each of `claimed`: without a certificate in that id's partition; an
+  // insider in its own partition (sender_id the claimed id) and in the claimed id's partition.
+  // `with_self`: an insider also writes as itself in its own partition.
+  static std::vector<Route> Routes(const Attacker& a, const std::vector<std::string>& claimed,
+                                   bool with_self = true) {
+    std::vector<Route> routes;
+    auto add = [&](const std::string& partition_id, const std::string& sender) {
+      const WriterSet* set = a.Set(partition_id);
+      if (set == nullptr) return;
+      for (const Route& r : routes) {
+        if (r.set == set && r.sender == sender) return;
+      }
+      routes.push_back({&a, set, sender});
+    };
+    for (const std::string& id : claimed) {
+      if (a.self.empty()) {
+        add(id, id);
+      } else {
+        add(a.self, id);
+        add(id, id);
+      }
+    }
+    if (with_self && !a.self.empty()) add(a.self, a.self);
+    return routes;
+  }
+  std::vector<Route> AllRoutes(const std::vector<std::string>& claimed,
+                               bool with_self = true) const {
+    std::vector<Route> all;
+    for (const Attacker& a : attackers_) {
+      for (Route& r : Routes(a, claimed, with_self)) all.push_back(std::move(r));
+    }
+    return all;
+  }
+  // "anonymous:bob@bob[claimed] pilot:bob@mallory[own] pilot:bob@bob[moved] ...": who wrote
+  // as whom in which partition, for the evidence.
+  static std::string RoutesText(const std::vector<Route>& routes) {
+    std::string out;
+    for (const Route& r : routes) {
+      out += (out.empty() ? "" : ",") + r.attacker->peer->label() + ":" + r.sender + "@" +
+             r.set->Text();
+    }
+    return out;
   }
 
   void Report(const std::string& name, bool open, const std::string& evidence) {
@@ -737,13 +926,12 @@ class Suite {
     uint64_t sequence = first_sequence;
     for (int tick = 0; Clock::now() < end; ++tick) {
       const bool enable = tick >= 10;
-      for (const Attacker& a : attackers_) {
-        if (!take_as.empty() && tick % 5 == 0) {
-          for (const std::string& id : Ids(a, {take_as})) WriteRequest(a.request, id, true);
-        }
-        for (const std::string& id : Ids(a, claimed)) {
-          WriteCommand(a.command, id, sequence, stamp_of(), enable ? linear : 0, 0, enable);
-        }
+      if (!take_as.empty() && tick % 5 == 0) {
+        for (const Route& r : AllRoutes({take_as})) WriteRequest(r.set->request, r.sender, true);
+      }
+      for (const Route& r : AllRoutes(claimed)) {
+        WriteCommand(r.set->command, r.sender, sequence, stamp_of(), enable ? linear : 0, 0,
+                     enable);
       }
       if (each_tick) each_tick();
       ++sequence;
@@ -751,10 +939,8 @@ class Suite {
     }
     // Stop cleanly (what a pilot letting go of the keys sends).
     for (int i = 0; i < 5; ++i) {
-      for (const Attacker& a : attackers_) {
-        for (const std::string& id : Ids(a, claimed)) {
-          WriteCommand(a.command, id, sequence, stamp_of(), 0, 0, false);
-        }
+      for (const Route& r : AllRoutes(claimed)) {
+        WriteCommand(r.set->command, r.sender, sequence, stamp_of(), 0, 0, false);
       }
       ++sequence;
       std::this_thread::sleep_for(50ms);
@@ -797,15 +983,16 @@ class Suite {
     witness_.ResetWindowWhenStill();
     const uint64_t before = witness_.LeaseSequence();
     for (int i = 0; i < 20; ++i) {
-      for (const Attacker& a : attackers_) {
-        for (const std::string& id : Ids(a, {options_.claim})) WriteRequest(a.request, id, true);
+      for (const Route& r : AllRoutes({options_.claim})) {
+        WriteRequest(r.set->request, r.sender, true);
       }
       std::this_thread::sleep_for(100ms);
     }
     witness_.WaitFreshHealth();
     Report("lease_as_another_pilot", witness_.EverHeld(options_.claim),
-           "claimed=" + options_.claim + " holder=" + witness_.Holder() + " lease_sequence=" +
-               std::to_string(before) + "->" + std::to_string(witness_.LeaseSequence()) +
+           "as=" + RoutesText(AllRoutes({options_.claim})) + " holder=" + witness_.Holder() +
+               " lease_sequence=" + std::to_string(before) + "->" +
+               std::to_string(witness_.LeaseSequence()) +
                Counters({"network.dropped_control_request", "network.sender_mismatch_dropped"}));
   }
 
@@ -835,20 +1022,20 @@ class Suite {
       fdds::DataWriterQos qos = CommandWriterQos();
       qos.ownership().kind = fdds::EXCLUSIVE_OWNERSHIP_QOS;
       qos.ownership_strength().value = 1'000'000;
-      exclusive.emplace_back(a.peer.get(),
-                             a.peer->Writer<msg::VelocityCommand_PubSubType>(kCommand, qos));
+      exclusive.emplace_back(a.peer.get(), a.peer->Writer<msg::VelocityCommand_PubSubType>(
+                                               kCommand, InPartition(qos, PartitionOf(a.primary))));
     }
     uint64_t sequence = 1'000'000;
     const auto end = Clock::now() + 4s;
     for (int tick = 0; Clock::now() < end; ++tick) {
       const bool enable = tick >= 10;
-      for (const Attacker& a : attackers_) {
-        if (tick % 5 == 0) {
-          for (const std::string& id : Ids(a, {options_.victim})) WriteRequest(a.request, id, true);
+      if (tick % 5 == 0) {
+        for (const Route& r : AllRoutes({options_.victim})) {
+          WriteRequest(r.set->request, r.sender, true);
         }
-        for (const std::string& id : Ids(a, {options_.victim})) {
-          WriteCommand(a.command, id, sequence, WallNowNs(), enable ? 0.3 : 0, 0, enable);
-        }
+      }
+      for (const Route& r : AllRoutes({options_.victim})) {
+        WriteCommand(r.set->command, r.sender, sequence, WallNowNs(), enable ? 0.3 : 0, 0, enable);
       }
       for (const auto& [peer, writer] : exclusive) {
         WriteCommand(writer, options_.victim, sequence, WallNowNs(), enable ? 0.3 : 0, 0, enable);
@@ -861,13 +1048,14 @@ class Suite {
       exclusive_matched += Matched(writer);
       WriteCommand(writer, options_.victim, sequence, WallNowNs(), 0, 0, false);
     }
-    for (const Attacker& a : attackers_) {
-      WriteCommand(a.command, options_.victim, sequence + 1, WallNowNs(), 0, 0, false);
+    for (const Route& r : AllRoutes({options_.victim}, false)) {
+      WriteCommand(r.set->command, r.sender, sequence + 1, WallNowNs(), 0, 0, false);
     }
     std::this_thread::sleep_for(300ms);
     for (const auto& [peer, writer] : exclusive) peer->Delete(writer);
     Report("hijack_live_pilot", Moved() || witness_.Holder() != options_.victim,
-           Motion() + " holder=" + witness_.Holder() +
+           Motion() + " as=" + RoutesText(AllRoutes({options_.victim})) +
+               " holder=" + witness_.Holder() +
                " exclusive_writer_matched=" + std::to_string(exclusive_matched) +
                Counters({"network.dropped_cmd_vel", "drive_safety.rejected_out_of_order"}));
   }
@@ -928,12 +1116,10 @@ class Suite {
       last_t0 = WallNowNs() - kShiftNs;
       p.t0(Stamp(last_t0));
       p.t3(Stamp(t3));
-      for (const Attacker& a : attackers_) {
-        if (a.ping == nullptr) continue;
-        for (const std::string& id : Ids(a, {options_.victim})) {
-          p.sender_id(id);
-          a.ping->write(&p);
-        }
+      for (const Route& r : AllRoutes({options_.victim})) {
+        if (r.set->ping == nullptr) continue;
+        p.sender_id(r.sender);
+        r.set->ping->write(&p);
       }
       ++sequence;
     };
@@ -948,7 +1134,7 @@ class Suite {
         ping);
     witness_.WaitFreshHealth();
     Report("forged_clock_pings", Moved(),
-           Motion() + " pings_as=" + options_.victim +
+           Motion() + " pings_as=" + RoutesText(AllRoutes({options_.victim})) +
                " shift_s=5 dropped_clock_ping=" + std::to_string(dropped_before) + "->" +
                std::to_string(witness_.Counter("network", "dropped_clock_ping")) +
                " rejected_stale=" + std::to_string(stale_before) + "->" +
@@ -962,7 +1148,7 @@ class Suite {
     const std::string engager =
         options_.observer_cert.empty() || options_.pki.empty() ? "carol" : options_.observer_cert;
     for (int i = 0; i < 10 && !witness_.Estop(); ++i) {
-      for (const Attacker& a : attackers_) WriteEstop(a.estop, engager, true);
+      for (const Route& r : AllRoutes({engager}, false)) WriteEstop(r.set->estop, r.sender, true);
       std::this_thread::sleep_for(200ms);
     }
     witness_.WaitFreshHealth();
@@ -973,20 +1159,267 @@ class Suite {
     const int64_t refused_before = witness_.Counter("drive_safety", "estop_refused");
     const std::string holder = witness_.Holder();
     for (int i = 0; i < 10; ++i) {
-      for (const Attacker& a : attackers_) {
-        for (const std::string& id : Ids(a, {engager, holder, options_.victim, options_.claim})) {
-          WriteEstop(a.estop, id, false);
-        }
+      for (const Route& r : AllRoutes({engager, holder, options_.victim, options_.claim})) {
+        WriteEstop(r.set->estop, r.sender, false);
       }
       std::this_thread::sleep_for(200ms);
     }
     witness_.WaitFreshHealth();
     Report("estop_release_as_observer", !witness_.Estop(),
-           "engaged_by=" + engager + " released_as=" + engager + "," + holder + "," +
-               options_.victim + "," + options_.claim + " estop_engaged=" +
-               (witness_.Estop() ? "1" : "0") + " estop_refused=" + std::to_string(refused_before) +
-               "->" + std::to_string(witness_.Counter("drive_safety", "estop_refused")) +
+           "engaged_by=" + engager + " released_as=" +
+               RoutesText(AllRoutes({engager, holder, options_.victim, options_.claim})) +
+               " estop_engaged=" + (witness_.Estop() ? "1" : "0") +
+               " estop_refused=" + std::to_string(refused_before) + "->" +
+               std::to_string(witness_.Counter("drive_safety", "estop_refused")) +
                Counters({"network.dropped_estop"}));
+  }
+
+  // The insiders: a credential and the id it is (with --pki the pilot and the observer
+  // certificates; without, the participant without a certificate plays them under their ids).
+  struct Insider {
+    std::string role;  // "pilot" or "observer": the rows insider_<role>_*
+    std::string self;
+    const Attacker* attacker;
+  };
+  std::vector<Insider> Insiders() const {
+    std::vector<Insider> out;
+    for (const auto& [role, id] :
+         {std::pair<std::string, std::string>{"pilot", options_.pilot_cert},
+          {"observer", options_.observer_cert}}) {
+      if (id.empty()) continue;
+      const Attacker* found = &attackers_.front();
+      for (const Attacker& a : attackers_) {
+        if (a.self == id) found = &a;
+      }
+      out.push_back({role, id, found});
+    }
+    return out;
+  }
+  // Where an insider acts as the victim: its own partition (sender_id the victim's), then the
+  // victim's partition.
+  std::vector<const WriterSet*> InsiderSets(const Insider& in) const {
+    return {in.attacker->Set(in.self), in.attacker->Set(options_.victim)};
+  }
+  int64_t Delta(const std::string& counter, int64_t before) const {
+    const auto dot = counter.find('.');
+    return witness_.Counter(counter.substr(0, dot), counter.substr(dot + 1)) - before;
+  }
+  int64_t CounterOf(const std::string& counter) const {
+    const auto dot = counter.find('.');
+    return witness_.Counter(counter.substr(0, dot), counter.substr(dot + 1));
+  }
+  // " dropped_estop=+3 sender_mismatch_dropped=+3" since `before` (CounterOf values).
+  std::string Deltas(const std::vector<std::string>& names,
+                     const std::vector<int64_t>& before) const {
+    std::string out;
+    for (size_t i = 0; i < names.size(); ++i) {
+      out += " " + names[i].substr(names[i].find('.') + 1) + "=+" +
+             std::to_string(Delta(names[i], before[i]));
+    }
+    return out;
+  }
+  std::vector<int64_t> Snapshot(const std::vector<std::string>& names) const {
+    std::vector<int64_t> out;
+    for (const std::string& n : names) out.push_back(CounterOf(n));
+    return out;
+  }
+  static std::string Joined(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& i : items) out += (out.empty() ? "" : ",") + i;
+    return out.empty() ? "-" : out;
+  }
+
+  // 12. An insider releases the victim's lease under its id and takes it as itself.
+  void InsiderLease(const Insider& in) {
+    const std::string name = "insider_" + in.role + "_lease";
+    const std::vector<std::string> counters = {"network.dropped_control_request",
+                                               "network.sender_mismatch_dropped"};
+    bool open = false;
+    std::string evidence = "by=" + in.self;
+    const WriterSet* own = in.attacker->Set(in.self);
+    for (const WriterSet* set : InsiderSets(in)) {
+      if (set == nullptr) continue;
+      if (!WaitForHolder(options_.victim, 10s)) {
+        ReportError(name, "the victim did not get the lease back: holder=" + witness_.Holder());
+        return;
+      }
+      witness_.ResetWindow();
+      const uint64_t sequence_before = witness_.LeaseSequence();
+      const std::vector<int64_t> before = Snapshot(counters);
+      for (int i = 0; i < 15; ++i) {
+        WriteRequest(set->request, options_.victim, false);
+        if (own != nullptr) WriteRequest(own->request, in.self, true);
+        std::this_thread::sleep_for(100ms);
+      }
+      std::this_thread::sleep_for(300ms);
+      witness_.WaitFreshHealth();
+      const std::vector<std::string> others = witness_.HoldersOtherThan(options_.victim);
+      open = open || !others.empty();
+      evidence += " in=" + set->Text() + ":release_as=" + options_.victim +
+                  ",lease_sequence=" + std::to_string(sequence_before) + "->" +
+                  std::to_string(witness_.LeaseSequence()) + ",other_holders=" + Joined(others) +
+                  Deltas(counters, before);
+    }
+    Report(name, open, evidence);
+  }
+
+  // 13. An insider arms and drives (in reverse, which the laser does not limit) under the
+  // victim's id while the victim holds the lease.
+  void InsiderDrive(const Insider& in) {
+    const std::string name = "insider_" + in.role + "_drive";
+    const std::vector<std::string> counters = {"network.dropped_cmd_vel",
+                                               "network.sender_mismatch_dropped",
+                                               "drive_safety.rejected_not_holder"};
+    bool open = false;
+    std::string evidence = "by=" + in.self;
+    for (const WriterSet* set : InsiderSets(in)) {
+      if (set == nullptr) continue;
+      if (!WaitForHolder(options_.victim, 10s)) {
+        ReportError(name, "the victim did not get the lease back: holder=" + witness_.Holder());
+        return;
+      }
+      witness_.ResetWindowWhenStill();
+      const std::vector<int64_t> before = Snapshot(counters);
+      uint64_t sequence = 4'000'000 + static_cast<uint64_t>(++insider_drives_) * 10'000;
+      const auto end = Clock::now() + 2500ms;
+      for (int tick = 0; Clock::now() < end; ++tick) {
+        const bool enable = tick >= 10;
+        if (tick % 5 == 0) WriteRequest(set->request, options_.victim, true);
+        WriteCommand(set->command, options_.victim, sequence++, WallNowNs(), enable ? -0.15 : 0, 0,
+                     enable);
+        std::this_thread::sleep_for(50ms);
+      }
+      for (int i = 0; i < 5; ++i) {
+        WriteCommand(set->command, options_.victim, sequence++, WallNowNs(), 0, 0, false);
+        std::this_thread::sleep_for(50ms);
+      }
+      std::this_thread::sleep_for(300ms);
+      witness_.WaitFreshHealth();
+      open = open || Moved();
+      std::ostringstream min;
+      min << std::fixed << std::setprecision(3) << witness_.MinLinear();
+      evidence += " in=" + set->Text() + ":as=" + options_.victim +
+                  ",odom_min_linear=" + min.str() + ",holder=" + witness_.Holder() +
+                  Deltas(counters, before);
+    }
+    Report(name, open, evidence);
+  }
+
+  // While the victim's commands are refused as stale (its clock offset poisoned by an attack
+  // that worked), has the lease released under its id and waits until it takes it again: the
+  // robot forgets a holder's clock offset when the lease changes hands. Only what already worked
+  // can be undone this way. Returns how often it released.
+  int ResetVictimClock() {
+    int resets = 0;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      const int64_t before = witness_.Counter("drive_safety", "rejected_stale");
+      std::this_thread::sleep_for(1s);
+      witness_.WaitFreshHealth();
+      if (witness_.Counter("drive_safety", "rejected_stale") - before < 5) return resets;
+      ++resets;
+      for (int i = 0; i < 3; ++i) {
+        for (const Route& r : AllRoutes({options_.victim}, false)) {
+          WriteRequest(r.set->request, r.sender, false);
+        }
+        std::this_thread::sleep_for(100ms);
+      }
+      WaitForHolder(options_.victim, 5s);
+    }
+    return resets;
+  }
+
+  // 14. An insider sends clock pings under the victim's id that make the victim's clock look
+  // 5 s ahead of the robot's: the victim's own (idle) commands would then look 5 s old and be
+  // refused as stale.
+  void InsiderStalePings(const Insider& in) {
+    const std::string name = "insider_" + in.role + "_stale_pings";
+    const std::vector<std::string> counters = {"network.dropped_clock_ping",
+                                               "network.sender_mismatch_dropped"};
+    constexpr int64_t kAheadNs = 5'000'000'000;
+    int resets = ResetVictimClock();
+    const int64_t base_before = witness_.Counter("drive_safety", "rejected_stale");
+    std::this_thread::sleep_for(2s);
+    witness_.WaitFreshHealth();
+    const int64_t baseline = witness_.Counter("drive_safety", "rejected_stale") - base_before;
+    bool open = false;
+    std::string evidence =
+        "by=" + in.self + " victim_commands_stale_baseline=+" + std::to_string(baseline);
+    for (const WriterSet* set : InsiderSets(in)) {
+      if (set == nullptr) continue;
+      const std::vector<int64_t> before = Snapshot(counters);
+      const int64_t stale_before = witness_.Counter("drive_safety", "rejected_stale");
+      uint64_t sequence = 6'000'000 + static_cast<uint64_t>(++insider_pings_) * 10'000;
+      int64_t last_t0 = 0;
+      for (int i = 0; i < 100; ++i) {
+        // t3 as in attack 7: the smallest round trip of all, so the exchange wins.
+        int64_t t3 = 0;
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          auto it = pongs_.find(sequence - 1);
+          if (it != pongs_.end()) {
+            t3 = last_t0 + (Nanos(it->second.t2()) - Nanos(it->second.t1())) + 10'000;
+          } else if (last_t0 != 0) {
+            t3 = last_t0 + 200'000;
+          }
+        }
+        msg::ClockProbe_ p;
+        p.sender_id(options_.victim);
+        p.sequence_number(sequence++);
+        last_t0 = WallNowNs() + kAheadNs;
+        p.t0(Stamp(last_t0));
+        p.t3(Stamp(t3));
+        if (set->ping != nullptr) set->ping->write(&p);
+        std::this_thread::sleep_for(20ms);
+      }
+      witness_.WaitFreshHealth();
+      const int64_t stale = witness_.Counter("drive_safety", "rejected_stale") - stale_before;
+      const bool poisoned = stale >= 20 && stale > 2 * baseline + 10;
+      open = open || poisoned;
+      evidence += " in=" + set->Text() + ":pings_as=" + options_.victim +
+                  ",victim_commands_stale=+" + std::to_string(stale) + Deltas(counters, before);
+      if (poisoned) resets += ResetVictimClock();
+    }
+    Report(name, open, evidence + " victim_clock_resets=" + std::to_string(resets));
+  }
+
+  // 15. The observer engages the e-stop in its own partition (which it may); an insider then
+  // releases it under the victim's id, the lease holder's.
+  void InsiderEstopRelease(const Insider& in) {
+    const std::string name = "insider_" + in.role + "_estop_release";
+    const std::vector<std::string> counters = {
+        "network.dropped_estop", "network.sender_mismatch_dropped", "drive_safety.estop_refused"};
+    bool open = false;
+    std::string evidence = "by=" + in.self + " engaged_by=" + Engager();
+    for (const WriterSet* set : InsiderSets(in)) {
+      if (set == nullptr) continue;
+      if (!WaitForHolder(options_.victim, 10s)) {
+        ReportError(name, "the victim does not hold the lease: holder=" + witness_.Holder());
+        return;
+      }
+      for (int i = 0; i < 10 && !witness_.Estop(); ++i) {
+        for (const Route& r : AllRoutes({Engager()}, false)) {
+          WriteEstop(r.set->estop, r.sender, true);
+        }
+        std::this_thread::sleep_for(200ms);
+      }
+      witness_.WaitFreshHealth();
+      if (!witness_.Estop()) {
+        ReportError(name, "could not engage the e-stop as " + Engager());
+        return;
+      }
+      const std::vector<int64_t> before = Snapshot(counters);
+      for (int i = 0; i < 8; ++i) {
+        WriteEstop(set->estop, options_.victim, false);
+        std::this_thread::sleep_for(200ms);
+      }
+      witness_.WaitFreshHealth();
+      const bool released = !witness_.Estop();
+      open = open || released;
+      evidence += " in=" + set->Text() + ":release_as=" + options_.victim +
+                  ",holder=" + witness_.Holder() + ",estop_engaged=" + (released ? "0" : "1") +
+                  Deltas(counters, before);
+    }
+    Report(name, open, evidence);
   }
 
   bool RobotFine(std::string* evidence) const {
@@ -1046,26 +1479,30 @@ class Suite {
       char id[16];
       std::snprintf(id, sizeof(id), "id%05d", i);
       for (const Attacker& a : attackers_) {
-        WriteRequest(a.request, id, true);
-        if (a.ping != nullptr) {
+        // In its primary partition: the robot's reader there drops them (another id), its
+        // reader of pings from clients outside the role table hears the pings too.
+        const WriterSet* set = a.Set(a.primary);
+        if (set == nullptr) continue;
+        WriteRequest(set->request, id, true);
+        if (set->ping != nullptr) {
           msg::ClockProbe_ p;
           p.sender_id(id);
           p.sequence_number(1);
           p.t0(Stamp(WallNowNs()));
-          a.ping->write(&p);
+          set->ping->write(&p);
         }
-        WriteCommand(a.command, id, 1, WallNowNs(), 0, 0, false);
+        WriteCommand(set->command, id, 1, WallNowNs(), 0, 0, false);
       }
       if (i % 10 == 9) std::this_thread::sleep_for(2ms);
     }
     std::this_thread::sleep_for(1s);
     witness_.WaitFreshHealth();
     const int64_t rss_after = RssKb(options_.robot_pid);
-    std::string evidence = "rss_kb=" + std::to_string(rss_before) + "->" +
-                           std::to_string(rss_after) +
-                           " clock_clients_evicted=" + std::to_string(evicted_before) + "->" +
-                           std::to_string(witness_.Counter("network", "clock_clients_evicted")) +
-                           " holder=" + witness_.Holder() + " ";
+    std::string evidence =
+        "rss_kb=" + std::to_string(rss_before) + "->" + std::to_string(rss_after) +
+        " clock_clients_evicted=" + std::to_string(evicted_before) + "->" +
+        std::to_string(witness_.Counter("network", "clock_clients_evicted")) +
+        " holder=" + witness_.Holder() + Counters({"network.sender_mismatch_dropped"}) + " ";
     const bool fine = RobotFine(&evidence);
     Report("distinct_ids_10000",
            !fine || rss_after - rss_before > 64 * 1024 || witness_.Holder() != holder, evidence);
@@ -1128,6 +1565,8 @@ class Suite {
   std::optional<msg::VelocityCommand_> replay_source_;
   std::map<uint64_t, msg::ClockProbe_> pongs_;
   int drives_ = 0;
+  int insider_drives_ = 0;
+  int insider_pings_ = 0;
 };
 
 int Main(int argc, char** argv) {
@@ -1135,8 +1574,10 @@ int Main(int argc, char** argv) {
   Suite::Options options;
   app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--pki", options.pki, "directory of a make_pki.sh PKI: attack with insiders too");
-  app.add_option("--pilot-cert", options.pilot_cert, "a pilot certificate's name in --pki");
-  app.add_option("--observer-cert", options.observer_cert, "an observer certificate's name");
+  app.add_option("--pilot-cert", options.pilot_cert,
+                 "a pilot certificate's name in --pki (without: the id to play)");
+  app.add_option("--observer-cert", options.observer_cert,
+                 "an observer certificate's name (without --pki: the id)");
   app.add_option("--witness-cert", options.witness_cert,
                  "certificate of the participant that watches the robot");
   app.add_option("--victim", options.victim, "the live pilot's id (holds the lease)");

@@ -10,6 +10,13 @@
 // (--pings). Lines on standard input change the plan while it runs: "drive W" (arm, then turn at
 // W rad/s) and "estop engage" / "estop release" (send that e-stop from now on).
 // Prints one line at the end: "actor: commands=N requests=N estops=N pings=N".
+//
+// Its writers are in its own client partition, as a console's (common/identity/
+// sender_partition.h: the certificate's CN, or without DDS Security the sender_id). With
+// --move-to-partition-of ID they are created there, then the publisher's partition is changed
+// to ID's: an insider on stock Fast DDS, whose own permissions check runs only when a writer is
+// created, announcing its writers in another client's partition. The robot's access control must
+// refuse them.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <iostream>
@@ -22,6 +29,8 @@
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
 #include "common/dds/topics.h"
+#include "common/identity/client_id.h"
+#include "common/identity/sender_partition.h"
 #include "common/time/time.h"
 #include "mostar_msgsPubSubTypes.h"
 
@@ -75,6 +84,9 @@ int Run(int argc, char** argv) {
   app.add_flag("--insecure", insecure, "allow a network profile without DDS Security");
   bool stdin_plan = false;
   app.add_flag("--stdin", stdin_plan, "read plan changes from standard input");
+  std::string move_to;
+  app.add_option("--move-to-partition-of", move_to,
+                 "once created, move the writers into this client's partition");
   CLI11_PARSE(app, argc, argv);
 
   dds::ParticipantOptions options;
@@ -98,6 +110,25 @@ int Run(int argc, char** argv) {
   std::unique_ptr<RequestWriter> request_writer;
   std::unique_ptr<EstopWriter> estop_writer;
   std::unique_ptr<PingWriter> ping_writer;
+  // The writers take the publisher's partition (no partition of their own), so that it can be
+  // changed after they are created.
+  const std::string own_id =
+      participant->own_client_id().empty() ? sender_id : participant->own_client_id();
+  if (!identity::IsValidClientId(own_id) ||
+      (!move_to.empty() && !identity::IsValidClientId(move_to))) {
+    std::cerr << "identity_actor: invalid client id\n";
+    return 2;
+  }
+  const auto set_partition = [&](const std::string& client_id) {
+    eprosima::fastdds::dds::PublisherQos qos = participant->publisher()->get_qos();
+    qos.partition().clear();
+    qos.partition().push_back(identity::SenderPartition(client_id).c_str());
+    return participant->publisher()->set_qos(qos) == ReturnCode_t::RETCODE_OK;
+  };
+  if (!set_partition(own_id)) {
+    std::cerr << "identity_actor: cannot set the publisher's partition\n";
+    return 1;
+  }
   if (commands) {
     command_writer =
         std::make_unique<CommandWriter>(*participant, topics::kCommand, Stream::kCommand);
@@ -126,6 +157,13 @@ int Run(int argc, char** argv) {
       !WaitMatched(estop_writer, wait) || !WaitMatched(ping_writer, wait)) {
     std::cerr << "identity_actor: the robot's readers were not matched\n";
     return 1;
+  }
+  if (!move_to.empty()) {
+    if (!set_partition(move_to)) {
+      std::cerr << "identity_actor: cannot move to the partition of " << move_to << "\n";
+      return 1;
+    }
+    std::cerr << "identity_actor: writers moved to " << identity::SenderPartition(move_to) << "\n";
   }
 
   // Shared with the stdin reader, which may outlive this function (it is detached).
