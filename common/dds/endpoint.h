@@ -71,6 +71,15 @@ struct LivelinessChange {
   int not_alive_count_change = 0;
 };
 
+// A change of the writers a reader matched (SUBSCRIPTION_MATCHED). Under DDS Security a match
+// means access control accepted the writer: the permissions of the certificate its participant
+// proved allow its topic and partitions.
+struct MatchChange {
+  WriterId writer;        // the writer matched (change > 0) or unmatched
+  int current_count = 0;  // writers matched now
+  int current_count_change = 0;
+};
+
 // " in partition 'P' (...)" when `qos` puts its endpoint in a partition (InPartition), for
 // the error of an endpoint DDS refused: under DDS Security the permissions must allow it.
 template <class Qos>
@@ -173,6 +182,8 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
   using WriterCallback = std::function<void(const Data&, const WriterId&)>;
   // Called when the liveliness of a matched writer changes (command stream).
   using LivelinessCallback = std::function<void(const LivelinessChange&)>;
+  // Called when a writer matches or unmatches.
+  using MatchCallback = std::function<void(const MatchChange&)>;
 
   Reader(Participant& participant, const std::string& topic_name, Stream stream,
          Callback callback = {}, LivelinessCallback on_liveliness = {})
@@ -190,10 +201,11 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
   // With QoS made by the caller (e.g. InPartition(ReaderQos(stream), partition)).
   Reader(Participant& participant, const std::string& topic_name,
          const eprosima::fastdds::dds::DataReaderQos& qos, WithWriter, WriterCallback callback,
-         LivelinessCallback on_liveliness = {})
+         LivelinessCallback on_liveliness = {}, MatchCallback on_match = {})
       : participant_(participant),
         callback_(std::move(callback)),
-        on_liveliness_(std::move(on_liveliness)) {
+        on_liveliness_(std::move(on_liveliness)),
+        on_match_(std::move(on_match)) {
     auto* topic = participant.GetTopic(
         topic_name, eprosima::fastdds::dds::TypeSupport(new RefuseUndecodable<PubSubType>()),
         &error_);
@@ -243,6 +255,12 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
       eprosima::fastdds::dds::DataReader*,
       const eprosima::fastdds::dds::SubscriptionMatchedStatus& info) override {
     matched_ = info.current_count;
+    if (!on_match_) return;
+    MatchChange change;
+    change.writer = WriterIdFromHandle(info.last_publication_handle);
+    change.current_count = info.current_count;
+    change.current_count_change = info.current_count_change;
+    on_match_(change);
   }
   void on_liveliness_changed(eprosima::fastdds::dds::DataReader*,
                              const eprosima::fastdds::dds::LivelinessChangedStatus& s) override {
@@ -259,6 +277,7 @@ class Reader : public eprosima::fastdds::dds::DataReaderListener, public MatchCo
   Participant& participant_;
   WriterCallback callback_;
   LivelinessCallback on_liveliness_;
+  MatchCallback on_match_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   std::string error_;
   mutable std::mutex mutex_;

@@ -211,10 +211,10 @@ bool Participant::SetUpSecurity(const SecuritySettings& settings, fdds::DomainPa
   return true;
 }
 
-std::optional<std::string> Participant::AuthenticatedClientId(
+std::optional<std::string> Participant::AnnouncedClientId(
     const identity::GuidPrefix& prefix) const {
   if (!identities_) return std::nullopt;
-  return identities_->ClientIdOf(prefix);
+  return identities_->AnnouncedClientId(prefix);
 }
 
 PeerIdentityCounters Participant::identity_counters() const {

@@ -8,8 +8,9 @@
 //       `xml_participant_profile` (default: the role, "robot" or "operator") is used.
 // The domain id comes from the options; see domain.h for the flag/environment convention.
 // With DDS Security (the profile's properties enable builtin.PKI-DH) the participant announces
-// its identity certificate in its USER_DATA and learns, for each authenticated remote
-// participant, the client id (certificate CN) it is (security.h): AuthenticatedClientId.
+// its identity certificate in its USER_DATA and notes, for each authenticated remote
+// participant, the client id (certificate CN) it announces (security.h): AnnouncedClientId, a
+// claim for logs.
 // Secure by default: a profile other than "loopback" whose properties do not enable DDS Security
 // (PKI-DH, Access-Permissions, AES-GCM-GMAC) is refused unless `insecure` is set; then the
 // participant logs a warning and says so in security_off() (CheckSecurityPolicy).
@@ -75,12 +76,15 @@ class Participant {
   // TCP sockets given TCP_USER_TIMEOUT so far (0 without a TCP transport).
   int tcp_sockets_guarded() const { return tcp_guard_ ? tcp_guard_->sockets_set() : 0; }
 
-  // DDS Security authentication (PKI-DH) is on: remote participants' client ids are known.
+  // DDS Security authentication (PKI-DH) is on: DDS access control applies the signed
+  // permissions of the certificate each remote participant's handshake proved.
   bool secure() const { return identities_ != nullptr; }
-  // The client id (certificate CN) of the authenticated remote participant with GUID prefix
-  // `prefix`; nullopt when not secure(), or when that participant is not authenticated or did
-  // not announce a certificate proving a client id. Thread-safe.
-  std::optional<std::string> AuthenticatedClientId(const identity::GuidPrefix& prefix) const;
+  // The client id (certificate CN) the authenticated remote participant with GUID prefix
+  // `prefix` announces with a verified certificate; nullopt when not secure(), or when that
+  // participant is not authenticated or announced no such certificate. A claim for logs: an
+  // insider can announce another client's certificate (peer_identity_table.h); who wrote a
+  // sample is the partition its reader is in (sender_partition.h). Thread-safe.
+  std::optional<std::string> AnnouncedClientId(const identity::GuidPrefix& prefix) const;
   // The CN of this participant's own certificate when secure() and it is a valid client id;
   // empty otherwise.
   const std::string& own_client_id() const { return own_client_id_; }

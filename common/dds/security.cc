@@ -146,6 +146,12 @@ PeerIdentityCounters PeerIdentityListener::counters() const {
   return c;
 }
 
+std::string PeerIdentityListener::Announcing(const identity::GuidPrefix& prefix) const {
+  const std::optional<std::string> id =
+      table_.AnnouncedClientId(prefix, /*authenticated_only=*/false);
+  return id ? "announcing '" + *id + "'" : "announcing no client certificate";
+}
+
 void PeerIdentityListener::on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
                                                     frtps::rtps::ParticipantDiscoveryInfo&& info) {
   using Status = frtps::rtps::ParticipantDiscoveryInfo;
@@ -153,8 +159,7 @@ void PeerIdentityListener::on_participant_discovery(eprosima::fastdds::dds::Doma
   if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
     const bool dropped = info.status == Status::DROPPED_PARTICIPANT;
     std::ostringstream text;
-    text << "DDS participant " << info.info.m_guid.guidPrefix << " ('"
-         << table_.ClientIdOf(prefix).value_or("unauthenticated") << "') "
+    text << "DDS participant " << info.info.m_guid.guidPrefix << " (" << Announcing(prefix) << ") "
          << (dropped ? "dropped: silent for its lease" : "left");
     Log(prefix, dropped ? PeerEventLogBudget::Event::kDropped : PeerEventLogBudget::Event::kLeft,
         text.str());
@@ -179,8 +184,10 @@ void PeerIdentityListener::on_participant_discovery(eprosima::fastdds::dds::Doma
   if (table_.Bind(prefix, *client_id)) ++verified_;
   if (info.status == Status::DISCOVERED_PARTICIPANT) {
     std::ostringstream text;
-    text << "DDS participant " << info.info.m_guid.guidPrefix << " discovered, certificate of '"
-         << *client_id << "'";
+    text << "DDS participant " << info.info.m_guid.guidPrefix
+         << " discovered, announcing the certificate of '" << *client_id
+         << "' (a claim: DDS access control grants it what the certificate its handshake proves "
+            "may do)";
     Log(prefix, PeerEventLogBudget::Event::kDiscovered, text.str());
   }
 }
@@ -192,8 +199,11 @@ void PeerIdentityListener::onParticipantAuthentication(
     ++authenticated_;
     table_.MarkAuthenticated(prefix);
     std::ostringstream text;
-    text << "DDS participant " << info.guid.guidPrefix << " ('"
-         << table_.ClientIdOf(prefix).value_or("no certificate") << "') authenticated";
+    // PKI-DH proved a certificate of the identity CA but does not say which; the announced one
+    // is bound to the GUID, not to the handshake (docs/security.md, Identities).
+    text << "DDS participant " << info.guid.guidPrefix
+         << " authenticated by a certificate of the identity CA (" << Announcing(prefix)
+         << ", unproven: its rights are the permissions of the certificate it proved)";
     Log(prefix, PeerEventLogBudget::Event::kAuthenticated, text.str());
   } else {
     table_.Forget(prefix);

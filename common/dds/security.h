@@ -89,17 +89,19 @@ class PeerEventLogBudget {
 };
 
 // Participant listener (given at creation, so no discovery is missed): binds each remote
-// participant's GUID prefix to the client id its announced certificate proves, and marks it
-// authenticated when DDS Security says so (PeerIdentityTable). Logs each remote participant
-// discovered (with its client id), authenticated, failing authentication, dropped (silent for
-// its lease) or gone (PeerEventLogBudget). Callbacks are quick and never block. Thread-safe.
+// participant's GUID prefix to the client id of the verified certificate it announces, and marks
+// it authenticated when DDS Security says so (PeerIdentityTable). Logs each remote participant
+// discovered (with the id it announces), authenticated (by some certificate of the identity CA:
+// the announced id stays a claim), failing authentication, dropped (silent for its lease) or
+// gone (PeerEventLogBudget). Callbacks are quick and never block. Thread-safe.
 class PeerIdentityListener : public eprosima::fastdds::dds::DomainParticipantListener {
  public:
   explicit PeerIdentityListener(std::unique_ptr<identity::IdentityCa> ca);
 
-  // The client id of an authenticated remote participant with a verified certificate.
-  std::optional<std::string> ClientIdOf(const identity::GuidPrefix& prefix) const {
-    return table_.ClientIdOf(prefix);
+  // The client id an authenticated remote participant announces with a verified certificate:
+  // a claim for logs, never for authorization (peer_identity_table.h).
+  std::optional<std::string> AnnouncedClientId(const identity::GuidPrefix& prefix) const {
+    return table_.AnnouncedClientId(prefix);
   }
   identity::PeerIdentityStats table_stats() const { return table_.stats(); }
   PeerIdentityCounters counters() const;
@@ -111,6 +113,8 @@ class PeerIdentityListener : public eprosima::fastdds::dds::DomainParticipantLis
       eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override;
 
  private:
+  // "announcing 'alice'" or "announcing no client certificate", for the logs.
+  std::string Announcing(const identity::GuidPrefix& prefix) const;
   // Logs `text` for `event` of `prefix` when the budget allows.
   void Log(const identity::GuidPrefix& prefix, PeerEventLogBudget::Event event,
            const std::string& text);

@@ -274,12 +274,11 @@ TEST_F(SecureParticipantsTest, EachSampleComesWithTheClientIdOfItsCertificate) {
   std::mutex mutex;
   std::vector<std::optional<std::string>> senders;
   Participant* robot_ptr = robot.get();
-  Reader<CommandType> reader(
-      *robot, "rt/test/sec_cmd", Stream::kCommand, kWithWriter,
-      [&](const wire::VelocityCommand&, const WriterId& from) {
-        std::lock_guard<std::mutex> lock(mutex);
-        senders.push_back(robot_ptr->AuthenticatedClientId(from.participant));
-      });
+  Reader<CommandType> reader(*robot, "rt/test/sec_cmd", Stream::kCommand, kWithWriter,
+                             [&](const wire::VelocityCommand&, const WriterId& from) {
+                               std::lock_guard<std::mutex> lock(mutex);
+                               senders.push_back(robot_ptr->AnnouncedClientId(from.participant));
+                             });
   Writer<CommandType> writer(*alice, "rt/test/sec_cmd", Stream::kCommand);
   // Both sides: matching is asymmetric, and a volatile sample written before the writer has
   // matched the reader never reaches it (seen once in ten suite runs).
@@ -294,8 +293,8 @@ TEST_F(SecureParticipantsTest, EachSampleComesWithTheClientIdOfItsCertificate) {
       std::chrono::seconds(5)));
   std::lock_guard<std::mutex> lock(mutex);
   EXPECT_EQ(senders.front(), "alice");
-  EXPECT_EQ(alice->AuthenticatedClientId(PrefixOf(*robot)), "robot");
-  EXPECT_EQ(robot->AuthenticatedClientId(PrefixOf(*robot)), std::nullopt);  // not a peer
+  EXPECT_EQ(alice->AnnouncedClientId(PrefixOf(*robot)), "robot");
+  EXPECT_EQ(robot->AnnouncedClientId(PrefixOf(*robot)), std::nullopt);  // not a peer
   EXPECT_GE(robot->identity_counters().certificates_verified, 1u);
   EXPECT_GE(robot->identity_counters().authenticated, 1u);
 }
@@ -308,7 +307,7 @@ TEST(InsecureParticipantTest, KnowsNoIdentities) {
   ASSERT_NE(p, nullptr) << error;
   EXPECT_FALSE(p->secure());
   EXPECT_EQ(p->own_client_id(), "");
-  EXPECT_EQ(p->AuthenticatedClientId(PrefixOf(*p)), std::nullopt);
+  EXPECT_EQ(p->AnnouncedClientId(PrefixOf(*p)), std::nullopt);
   EXPECT_FALSE(p->security_off());  // loopback: nothing leaves this machine
 }
 

@@ -1,5 +1,5 @@
 // The DDS writer a sample or an event came from, without Fast DDS types: the GUID prefix of its
-// participant (which Participant::AuthenticatedClientId maps to a client id) and its entity id.
+// participant (which Participant::AnnouncedClientId maps to a client id) and its entity id.
 #pragma once
 
 #include <array>

@@ -46,7 +46,12 @@ bool PeerIdentityTable::Bind(const GuidPrefix& prefix, const std::string& client
   }
   size_t same_client = 0;
   for (const auto& [p, e] : entries_) same_client += e.client_id == client_id ? 1 : 0;
-  if (same_client >= max_per_client_) EvictOldestLocked(false, client_id);
+  // Over its share, only an incomplete entry of the id makes room: a complete one stays
+  // whoever else announces the id.
+  if (same_client >= max_per_client_ && !EvictOldestLocked(true, client_id)) {
+    ++stats_.refused_per_client;
+    return false;
+  }
   Entry* entry = EntryLocked(prefix);
   if (entry == nullptr) return false;
   entry->client_id = client_id;
@@ -67,10 +72,12 @@ void PeerIdentityTable::Forget(const GuidPrefix& prefix) {
   entries_.erase(prefix);
 }
 
-std::optional<std::string> PeerIdentityTable::ClientIdOf(const GuidPrefix& prefix) const {
+std::optional<std::string> PeerIdentityTable::AnnouncedClientId(const GuidPrefix& prefix,
+                                                                bool authenticated_only) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = entries_.find(prefix);
-  if (it == entries_.end() || !it->second.authenticated || it->second.client_id.empty()) {
+  if (it == entries_.end() || it->second.client_id.empty() ||
+      (authenticated_only && !it->second.authenticated)) {
     return std::nullopt;
   }
   return it->second.client_id;

@@ -28,10 +28,12 @@ std::string Printable(const std::string& id) {
   return identity::IsValidClientId(id) ? "'" + id + "'" : "an invalid id";
 }
 
+// "e7.3d.67...": as Fast DDS prints a GUID prefix (the participant logs of common/dds/security.cc).
 std::string Hex(const identity::GuidPrefix& prefix) {
   static const char* digits = "0123456789abcdef";
   std::string out;
   for (const uint8_t b : prefix) {
+    if (!out.empty()) out += '.';
     out += digits[b >> 4];
     out += digits[b & 15];
   }
@@ -167,6 +169,11 @@ bool RobotNode::AddSender(dds::Participant& p, const RobotSender& sender, std::s
   const std::string client = sender.client_id;
   const std::string partition = identity::SenderPartition(client);
   const auto control_qos = dds::InPartition(dds::ReaderQos(Stream::kControl), partition);
+  const auto matched = [this, client](SenderChannel channel) {
+    return [this, client, channel](const dds::MatchChange& change) {
+      if (change.current_count_change > 0) OnSenderMatched(channel, client, change.writer);
+    };
+  };
   if (sender.pilot) {
     readers->command = std::make_unique<CommandReader>(
         p, topics::kCommand, dds::InPartition(dds::ReaderQos(Stream::kCommand), partition),
@@ -181,14 +188,16 @@ bool RobotNode::AddSender(dds::Participant& p, const RobotSender& sender, std::s
           if (change.alive_count_change >= 0) return;
           const std::optional<std::string> lost = command_writers_.WriterLost(change.writer);
           if (lost && callbacks_.on_command_stream_lost) callbacks_.on_command_stream_lost(*lost);
-        });
+        },
+        matched(SenderChannel::kCommand));
     readers->request = std::make_unique<RequestReader>(
         p, topics::kControlRequest, control_qos, dds::kWithWriter,
         [this, client](const dds::wire::ControlRequest& r, const dds::WriterId& from) {
           const ControlRequest request = dds::FromIdl(r);
           if (!Admit(SenderChannel::kControlRequest, request.sender_id, client, from)) return;
           if (callbacks_.on_control_request) callbacks_.on_control_request(request);
-        });
+        },
+        RequestReader::LivelinessCallback(), matched(SenderChannel::kControlRequest));
   }
   readers->estop = std::make_unique<EstopReader>(
       p, topics::kEmergencyStop, control_qos, dds::kWithWriter,
@@ -196,14 +205,16 @@ bool RobotNode::AddSender(dds::Participant& p, const RobotSender& sender, std::s
         const EmergencyStop stop = dds::FromIdl(s);
         if (!Admit(SenderChannel::kEmergencyStop, stop.sender_id, client, from)) return;
         if (callbacks_.on_estop) callbacks_.on_estop(stop);
-      });
+      },
+      EstopReader::LivelinessCallback(), matched(SenderChannel::kEmergencyStop));
   readers->ping = std::make_unique<PingReader>(
       p, topics::kClockPing, control_qos, dds::kWithWriter,
       [this, client](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
         const ClockProbe probe = dds::FromIdl(ping);
         if (!Admit(SenderChannel::kClockPing, probe.sender_id, client, from)) return;
         OnPing(probe, client);
-      });
+      },
+      PingReader::LivelinessCallback(), matched(SenderChannel::kClockPing));
   if ((readers->command && !Check(readers->command, error)) ||
       (readers->request && !Check(readers->request, error)) || !Check(readers->estop, error) ||
       !Check(readers->ping, error)) {
@@ -231,6 +242,23 @@ bool RobotNode::Admit(SenderChannel channel, const std::string& sender_id,
       << " from participant " << Hex(from.participant)
       << " dropped: " << SenderVerdictName(verdict);
   return false;
+}
+
+void RobotNode::OnSenderMatched(SenderChannel channel, const std::string& client,
+                                const dds::WriterId& writer) {
+  const std::string participant = Hex(writer.participant);
+  if (!proofs_.First(client, participant)) return;
+  if (sender_check_->identities_verified()) {
+    MOSTAR_LOG(INFO) << "client '" << client << "' is DDS participant " << participant << ": its "
+                     << SenderChannelName(channel) << " writer matched in partition "
+                     << identity::SenderPartition(client)
+                     << ", which DDS access control allows only the signed permissions of '"
+                     << client << "'";
+  } else {
+    MOSTAR_LOG(INFO) << "DDS participant " << participant << " writes as '" << client << "' (its "
+                     << SenderChannelName(channel) << " writer matched in partition "
+                     << identity::SenderPartition(client) << "; unproven: DDS Security is off)";
+  }
 }
 
 void RobotNode::OnPing(const ClockProbe& ping, const std::string& client) {

@@ -167,6 +167,9 @@ class RobotNode final : public RobotLink {
   // Creates the readers of `sender` on `participant`; false with `error`.
   bool AddSender(dds::Participant& participant, const RobotSender& sender, std::string* error);
 
+  // A writer matched a reader of `client`'s partition: logs the first proof per participant.
+  void OnSenderMatched(SenderChannel channel, const std::string& client,
+                       const dds::WriterId& writer);
   // A ping of role-table client `client` (its partition).
   void OnPing(const ClockProbe& ping, const std::string& client);
   // A ping from the reader over every partition: answered for clients outside the role table.
@@ -185,6 +188,7 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<ClockResponder> clock_responder_;           // role-table clients
   std::unique_ptr<ClockResponder> unlisted_clock_responder_;  // everyone else (pongs only)
   std::set<std::string> listed_;                              // role-table client ids
+  SenderProofLog proofs_;
   CommandWriterTracker command_writers_;
   std::mutex lease_mutex_;
   std::string lease_holder_;  // holder of the lease last published

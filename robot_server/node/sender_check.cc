@@ -1,5 +1,7 @@
 #include "robot_server/node/sender_check.h"
 
+#include <utility>
+
 #include "common/identity/client_id.h"
 
 namespace mostar::server {
@@ -60,6 +62,15 @@ std::vector<std::pair<std::string, uint64_t>> SenderCheck::HealthCounters() cons
                      dropped_by_channel_[c].load());
   }
   return out;
+}
+
+bool SenderProofLog::First(const std::string& client, const std::string& participant) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::pair<std::string, std::string> key(client, participant);
+  if (seen_.count(key) != 0) return false;
+  if (seen_.size() >= kMaxRemembered) seen_.clear();
+  seen_.insert(std::move(key));
+  return true;
 }
 
 }  // namespace mostar::server

@@ -17,6 +17,8 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <mutex>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +61,22 @@ class SenderCheck {
   std::atomic<uint64_t> mismatch_{0};
   std::atomic<uint64_t> invalid_{0};
   std::array<std::atomic<uint64_t>, 4> dropped_by_channel_{};
+};
+
+// Which participants have shown to be which client: a writer of theirs matched in the client's
+// partition (with DDS Security, only the client's signed permissions allow that). The robot logs
+// each (client, participant) pair once, the first time; at most kMaxRemembered pairs are kept
+// (all forgotten at once beyond, then logged again). Thread-safe.
+class SenderProofLog {
+ public:
+  static constexpr size_t kMaxRemembered = 1024;
+  // True the first time `participant` (a GUID prefix, any printable form) writes in `client`'s
+  // partition.
+  bool First(const std::string& client, const std::string& participant);
+
+ private:
+  std::mutex mutex_;
+  std::set<std::pair<std::string, std::string>> seen_;
 };
 
 }  // namespace mostar::server

@@ -56,5 +56,25 @@ TEST(SenderCheckTest, InvalidIdsAreDroppedEitherWay) {
   }
 }
 
+TEST(SenderProofLogTest, EachClientAndParticipantPairIsFirstOnce) {
+  SenderProofLog log;
+  EXPECT_TRUE(log.First("alice", "p1"));
+  EXPECT_FALSE(log.First("alice", "p1"));  // alice's next writer of the same participant
+  EXPECT_TRUE(log.First("bob", "p1"));     // another client's partition: said again
+  EXPECT_TRUE(log.First("alice", "p2"));   // alice's restarted participant
+  EXPECT_FALSE(log.First("bob", "p1"));
+}
+
+TEST(SenderProofLogTest, StaysBoundedAndForgetsAllAtOnceWhenFull) {
+  SenderProofLog log;
+  for (size_t i = 0; i < SenderProofLog::kMaxRemembered; ++i) {
+    ASSERT_TRUE(log.First("mallory", "p" + std::to_string(i)));
+  }
+  EXPECT_FALSE(log.First("mallory", "p0"));
+  EXPECT_TRUE(log.First("alice", "a"));  // full: forgotten, then remembered again
+  EXPECT_TRUE(log.First("mallory", "p0"));
+  EXPECT_FALSE(log.First("alice", "a"));
+}
+
 }  // namespace
 }  // namespace mostar::server

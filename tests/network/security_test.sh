@@ -100,12 +100,12 @@ expect "revoked certificate: no data" '[ "$(field revoked left)" = 0 ] && [ "$(f
 expect "revoked certificate: own participant refuses to start" '! grep -q "^probe:" "$work/revoked_local.out"'
 # The robot's log says who came and went (the probes ended above; their farewell may take a
 # moment to arrive).
-for i in $(seq 50); do grep -q "('watcher') left" "$work/robot.log" && break; sleep 0.1; done
-expect "the robot logs the observer's certificate" \
-  'grep -q "discovered, certificate of .watcher." "$work/robot.log"'
-expect "the robot logs the observer's authentication" \
-  'grep -q "(.watcher.) authenticated" "$work/robot.log"'
-expect "the robot logs that the observer left" 'grep -q "(.watcher.) left" "$work/robot.log"'
+for i in $(seq 50); do grep -q "(announcing 'watcher') left" "$work/robot.log" && break; sleep 0.1; done
+expect "the robot logs the certificate the observer announces" \
+  'grep -q "discovered, announcing the certificate of .watcher. (a claim" "$work/robot.log"'
+expect "the robot logs the observer's authentication, the announced id as unproven" \
+  'grep -q "authenticated by a certificate of the identity CA (announcing .watcher., unproven" "$work/robot.log"'
+expect "the robot logs that the observer left" 'grep -q "(announcing .watcher.) left" "$work/robot.log"'
 expect "the robot logs the failed authentications" \
   'grep -q "failed authentication" "$work/robot.log"'
 [ "$failures" -eq 0 ] || { echo "robot log:"; tail -20 "$work/robot.log"; exit 1; }

@@ -9,7 +9,10 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <mutex>
+#include <regex>
+#include <set>
 #include <thread>
 
 #include "common/dds/conversions.h"
@@ -226,8 +229,25 @@ TEST_F(SenderIdentityTest, APilotCannotActUnderAnotherPilotsId) {
     EXPECT_FALSE(ever_driving_) << "the impostor's commands armed the robot";
     EXPECT_EQ(max_speed_, 0.0) << "the robot moved";
   }
-  EXPECT_NE(testing::ReadFile(dir_ + "/robot.log").find("in the partition of 'bob'"),
-            std::string::npos);
+  const std::string log = testing::ReadFile(dir_ + "/robot.log");
+  EXPECT_NE(log.find("in the partition of 'bob'"), std::string::npos);
+  // The log names each participant by the client whose partition it proved it may write in:
+  // alice and bob, each participant one client only, although bob wrote as alice.
+  std::map<std::string, std::set<std::string>> clients_of_participant;
+  const std::regex proof(
+      "client '([a-z]+)' is DDS participant ([0-9a-f.]+): its [a-z_]+ writer "
+      "matched in partition mostar\\.client\\.\\1, which DDS access control "
+      "allows only the signed permissions of '\\1'");
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), proof); it != std::sregex_iterator();
+       ++it) {
+    clients_of_participant[(*it)[2]].insert((*it)[1]);
+  }
+  std::set<std::string> proven;
+  for (const auto& [participant, clients] : clients_of_participant) {
+    EXPECT_EQ(clients.size(), 1u) << participant << " shown as more than one client";
+    proven.insert(clients.begin(), clients.end());
+  }
+  EXPECT_EQ(proven, (std::set<std::string>{"alice", "bob"})) << log;
 
   // Alice herself drives: the robot turns (so the checks above could have failed).
   ASSERT_TRUE(alice.WriteStdin("drive 0.8\n"));
