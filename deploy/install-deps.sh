@@ -10,7 +10,9 @@ PACKAGES=(
   # DDS: runtime, generator (brings a JRE), tools; OpenSSL for DDS Security certificates
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools libssl-dev
   # sensors, maths, vision, config
-  libopencv-dev libjpeg62-turbo-dev libeigen3-dev libserial-dev libdc1394-dev libceres-dev
+  libopencv-dev libjpeg62-turbo-dev
+  # H.264 for the WAN video: libx264 through libavcodec, colour conversion with libswscale
+  libavcodec-dev libavutil-dev libswscale-dev libeigen3-dev libserial-dev libdc1394-dev libceres-dev
   # bumper contacts on GPIO lines (the Linux GPIO character device)
   libgpiod-dev
   # service manager readiness and watchdog (sd_notify)
@@ -21,6 +23,8 @@ PACKAGES=(
   # mostar_web: HTTPS and WebSocket (Boost.Beast/Asio, header-only); its tests drive headless
   # Chromium through chromedriver
   libboost-dev chromium chromium-driver
+  # a second DDS vendor for the GUID-forging insider of the attack suite (tests/security/forger)
+  cyclonedds-dev cyclonedds-tools
   # tests, benchmarks, headless display
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
   # fuzzing (libFuzzer)
