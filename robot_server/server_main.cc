@@ -4,6 +4,7 @@
 // the robot would (robot_server/replay).
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -84,6 +85,10 @@ int Run(int argc, char** argv) {
   dds_options.name = "robot";
   dds_options.tcp_user_timeout_ms = config.dds().tcp_user_timeout_ms();
   dds_options.insecure = config.dds().insecure();
+  // Started before its network (the WireGuard overlay's address) is up: wait for it rather than
+  // run undiscoverable; within mostar-robot-server.service's TimeoutStartSec (60 s), after which
+  // systemd restarts the server and it waits again.
+  dds_options.wait_for_interfaces = std::chrono::seconds(45);
   auto participant = dds::Participant::Create(dds_options, &error);
   if (!participant) return Fail(1, error);
 

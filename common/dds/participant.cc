@@ -15,7 +15,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <thread>
+#include <vector>
 
+#include "common/dds/interface_wait.h"
 #include "common/identity/certificate.h"
 #include "common/identity/certificate_subject.h"
 #include "common/identity/peer_certificate.h"
@@ -119,6 +122,42 @@ bool ParticipantOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// Waits (polling every 200 ms, up to options.wait_for_interfaces) until every address of the
+// profile's interface whitelists exists on this host; false with `error` naming the missing ones.
+bool WaitForWhitelistedAddresses(const fdds::DomainParticipantQos& qos,
+                                 const ParticipantOptions& options, std::string* error) {
+  const std::vector<std::string> wanted = WhitelistedAddresses(qos);
+  if (wanted.empty()) return true;
+  const auto deadline = std::chrono::steady_clock::now() + options.wait_for_interfaces;
+  bool said = false;
+  for (;;) {
+    const std::vector<std::string> missing = MissingAddresses(wanted, LocalIpv4Addresses());
+    if (missing.empty()) {
+      if (said) MOSTAR_LOG(INFO) << options.profile << ": the interface addresses are up";
+      return true;
+    }
+    std::string list;
+    for (const std::string& m : missing) list += (list.empty() ? "" : ", ") + m;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      *error = options.profile + ": address " + list +
+               " of the profile's interfaceWhiteList does not exist on this host (is its network "
+               "up, e.g. the WireGuard overlay? docs/networking.md)";
+      return false;
+    }
+    if (!said) {
+      MOSTAR_LOG(WARNING) << options.profile << ": waiting up to "
+                          << options.wait_for_interfaces.count() / 1000.0 << " s for address "
+                          << list << " (the profile's interfaceWhiteList) to exist on this host";
+      said = true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+}
+
+}  // namespace
+
 std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& options,
                                                  std::string* error) {
   if (!options.IsValid(error)) return nullptr;
@@ -147,6 +186,7 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
     return nullptr;
   }
   if (!TcpListeningPortsFree(qos, error)) return nullptr;
+  if (!WaitForWhitelistedAddresses(qos, options, error)) return nullptr;
   std::unique_ptr<Participant> p(new Participant(options));
   if (policy.security_off()) {
     MOSTAR_LOG(WARNING) << "participant '" << options.name << "' (" << options.profile

@@ -18,6 +18,7 @@
 // with a TCP transport is not deleted (see EndProcess): programs end through EndProcess.
 #pragma once
 
+#include <chrono>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
@@ -49,6 +50,11 @@ struct ParticipantOptions {
   // 0 leaves the kernel default (about 15 minutes).
   int tcp_user_timeout_ms = kDefaultTcpUserTimeoutMs;
   static constexpr int kDefaultTcpUserTimeoutMs = 4000;
+  // A profile whose transports are restricted to local addresses (interfaceWhiteList) that do
+  // not exist yet: wait up to this long for them (logged), then fail naming them. 0: fail at
+  // once. Service programs wait (a WireGuard address that comes up after the program starts);
+  // a participant made without them would never be discovered on them (interface_wait.h).
+  std::chrono::milliseconds wait_for_interfaces{0};
 
   bool IsValid(std::string* error) const;
 };

@@ -146,6 +146,9 @@ int Main(int argc, char** argv) {
   robot_options.xml_participant_profile = "relay";
   observer_options.name = "relay";
   observer_options.xml_participant_profile = "relay_observers";
+  // A service on the hub: wait for its overlay address rather than run undiscoverable.
+  robot_options.wait_for_interfaces = std::chrono::seconds(45);
+  observer_options.wait_for_interfaces = std::chrono::seconds(45);
   int observer_domain = -1;
   double duration_s = 0;
   double stats_period_s = 5;

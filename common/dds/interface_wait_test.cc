@@ -1,0 +1,97 @@
+#include "common/dds/interface_wait.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+
+#include "common/dds/domain.h"
+#include "common/dds/participant.h"
+#include "common/testing/subprocess.h"
+
+namespace mostar::dds {
+namespace {
+
+TEST(InterfaceWaitTest, MissingAddressesAreThoseNotOnTheHost) {
+  EXPECT_EQ(MissingAddresses({"10.77.0.2", "127.0.0.1"}, {"127.0.0.1", "192.168.1.5"}),
+            (std::vector<std::string>{"10.77.0.2"}));
+  EXPECT_TRUE(MissingAddresses({"127.0.0.1"}, {"127.0.0.1"}).empty());
+  EXPECT_TRUE(MissingAddresses({}, {}).empty());
+}
+
+TEST(InterfaceWaitTest, TheHostHasLoopback) {
+  const std::vector<std::string> local = LocalIpv4Addresses();
+  EXPECT_NE(std::find(local.begin(), local.end(), "127.0.0.1"), local.end());
+}
+
+// A UDPv4 profile whose transport is restricted to `addresses`, participant profile `name`.
+std::string WriteProfile(const std::string& dir, const std::string& name,
+                         const std::vector<std::string>& addresses) {
+  const std::string path = dir + "/" + name + ".xml";
+  std::ofstream out(path);
+  out << R"(<?xml version="1.0" encoding="UTF-8" ?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <transport_descriptors>
+    <transport_descriptor>
+      <transport_id>udp_)"
+      << name << R"(</transport_id>
+      <type>UDPv4</type>
+      <interfaceWhiteList>
+)";
+  for (const std::string& a : addresses) out << "        <address>" << a << "</address>\n";
+  out << R"(      </interfaceWhiteList>
+    </transport_descriptor>
+  </transport_descriptors>
+  <participant profile_name=")"
+      << name << R"(">
+    <rtps>
+      <builtin>
+        <initialPeersList>
+          <locator><udpv4><address>127.0.0.1</address></udpv4></locator>
+        </initialPeersList>
+      </builtin>
+      <userTransports><transport_id>udp_)"
+      << name << R"(</transport_id></userTransports>
+      <useBuiltinTransports>false</useBuiltinTransports>
+    </rtps>
+  </participant>
+</profiles>
+)";
+  return path;
+}
+
+ParticipantOptions Options(const std::string& profile, const std::string& name) {
+  ParticipantOptions options;
+  options.domain_id = PerProcessDomainId();
+  options.profile = profile;
+  options.xml_participant_profile = name;
+  options.name = name;
+  options.insecure = true;  // a network profile without DDS Security, for this test only
+  return options;
+}
+
+// An address of the whitelist that this host does not have (TEST-NET-1): the participant waits
+// for it as long as asked, then fails naming it; with the addresses present it starts at once.
+TEST(InterfaceWaitTest, AParticipantWaitsForItsWhitelistedAddressesThenNamesTheMissingOne) {
+  const std::string dir = testing::MakeTempDir("mostar_ifwait_");
+  ASSERT_FALSE(dir.empty());
+  ParticipantOptions absent =
+      Options(WriteProfile(dir, "ifwait_absent", {"192.0.2.77", "127.0.0.1"}), "ifwait_absent");
+  absent.wait_for_interfaces = std::chrono::milliseconds(600);
+  std::string error;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(Participant::Create(absent, &error), nullptr);
+  EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(600));
+  EXPECT_NE(error.find("address 192.0.2.77 of the profile's interfaceWhiteList"), std::string::npos)
+      << error;
+  EXPECT_EQ(error.find("127.0.0.1"), std::string::npos) << error;
+
+  const ParticipantOptions present =
+      Options(WriteProfile(dir, "ifwait_present", {"127.0.0.1"}), "ifwait_present");
+  auto participant = Participant::Create(present, &error);
+  EXPECT_NE(participant, nullptr) << error;
+}
+
+}  // namespace
+}  // namespace mostar::dds
