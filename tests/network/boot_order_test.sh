@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Boot order (the overlay comes up after the robot's service): robot_server starts in its
+# namespace while its profile's overlay address (deploy/dds/overlay.xml, the line marked
+# mostar:overlay-address) does not exist yet, says what it waits for, and once the address is
+# added it is found: an operator-side net_probe reaching that address gets scans and health.
+# Before robot_server waited, it logged "running", was never discovered and sent nothing.
+#
+# Usage: boot_order_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR
+# Exit 77 (CTest: skipped) when network namespaces cannot be created.
+set -euo pipefail
+[ $# -eq 3 ] || { echo "usage: boot_order_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR" >&2; exit 2; }
+robot_server=$1; net_probe=$2; src=$3
+net="$src/tests/network"
+"$net/netns.sh" check || exit 77
+
+prefix="mboot$$"
+work=$(mktemp -d /tmp/mostar_boot_XXXXXX)
+robot_pid=""
+cleanup() {
+  [ -z "$robot_pid" ] || { kill "$robot_pid" 2>/dev/null || true; wait "$robot_pid" 2>/dev/null || true; }
+  "$net/netns.sh" down "$prefix" || true
+  if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
+}
+trap cleanup EXIT
+trap "exit 1" INT TERM
+"$net/netns.sh" up "$prefix"
+robot_ns="${prefix}_robot"; operator_ns="${prefix}_operator"
+domain=$((100 + $$ % 100))
+# The robot's "overlay" address: on the veth, in the test subnet, added later.
+late=10.231.0.11
+sed -e "s|<address>10.77.0.2</address> <!-- mostar:overlay-address -->|<address>$late</address>|" \
+  -e "s|<address>10.77.0.2</address></udpv4> <!-- mostar:robot-address -->|<address>$late</address></udpv4>|" \
+  "$src/deploy/dds/overlay.xml" > "$work/robot.xml"
+sed -e "s|<address>10.77.0.2</address> <!-- mostar:overlay-address -->|<address>10.231.0.2</address>|" \
+  -e "s|<address>10.77.0.2</address></udpv4> <!-- mostar:robot-address -->|<address>$late</address></udpv4>|" \
+  "$src/deploy/dds/overlay.xml" > "$work/operator.xml"
+grep -q "$late" "$work/robot.xml" || { echo "FAIL: overlay.xml has no mostar:overlay-address line"; exit 1; }
+
+ip netns exec "$robot_ns" "$robot_server" --domain "$domain" --dds-profile "$work/robot.xml" \
+  --config "$src/deploy/config/server_sim.pbtxt" --source test_pattern --insecure \
+  > "$work/robot.log" 2>&1 &
+robot_pid=$!
+
+failures=0
+expect() {  # description, condition
+  if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi
+}
+waited=0
+for _ in $(seq 100); do
+  grep -q "waiting up to .* for address $late" "$work/robot.log" && { waited=1; break; }
+  sleep 0.1
+done
+expect "robot_server says it waits for $late" '[ "$waited" = 1 ]'
+sleep 2
+expect "robot_server is still waiting (alive)" 'kill -0 "$robot_pid" 2>/dev/null'
+ip -n "$robot_ns" addr add "$late/24" dev veth0
+up=0
+for _ in $(seq 100); do
+  grep -q "interface addresses are up" "$work/robot.log" && { up=1; break; }
+  sleep 0.1
+done
+expect "robot_server sees the address come up" '[ "$up" = 1 ]'
+ip netns exec "$operator_ns" "$net_probe" --domain "$domain" --dds-profile "$work/operator.xml" \
+  --insecure --duration-s 10 > "$work/probe.out" 2> "$work/probe.err" || true
+cat "$work/probe.out"
+field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" "$work/probe.out"; }
+expect "the operator receives scans" '[ "$(field scan)" -ge 5 ]'
+expect "the operator receives health" '[ "$(field health)" -ge 2 ]'
+if [ "$failures" -ne 0 ]; then echo "--- robot log"; tail -20 "$work/robot.log"; exit 1; fi
+echo "boot_order_test: all checks passed"
