@@ -107,9 +107,9 @@ DecodeStatus Decoder::Decode(const uint8_t* data, size_t size, uint64_t sequence
   const int height = c.frame->height;
   // swscale also expands the stream's limited-range luma to full range for grey.
   const AVPixelFormat out_format = pixels == Pixels::kGrey ? AV_PIX_FMT_GRAY8 : AV_PIX_FMT_BGR24;
-  c.sws = sws_getCachedContext(c.sws, width, height, static_cast<AVPixelFormat>(c.frame->format),
-                               width, height, out_format, SWS_FAST_BILINEAR, nullptr, nullptr,
-                               nullptr);
+  c.sws =
+      sws_getCachedContext(c.sws, width, height, static_cast<AVPixelFormat>(c.frame->format), width,
+                           height, out_format, SWS_FAST_BILINEAR, nullptr, nullptr, nullptr);
   if (c.sws == nullptr) return Fail("no colour conversion of the picture", error);
   image->create(height, width, pixels == Pixels::kGrey ? CV_8UC1 : CV_8UC3);
   uint8_t* dst[1] = {image->data};
