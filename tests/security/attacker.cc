@@ -12,17 +12,26 @@
 // other ids in "mostar.client.*"), so whatever acts "as X" writes in X's partition.
 //
 // Credentials: a participant without any certificate always attacks; it writes as X in X's
-// partition. With --pki DIR (a PKI made by deploy/security/make_pki.sh) two insiders attack too:
-// --pilot-cert (a pilot certificate of the role table, weaker than the victim) and
-// --observer-cert (an observer certificate). Each insider announces its certificate in USER_DATA
+// partition. With --pki DIR (a PKI made by deploy/security/make_pki.sh) up to three insiders
+// attack too: --pilot-cert (a pilot certificate of the role table, weaker than the victim),
+// --observer-cert (an observer certificate) and --relay-cert (a relay certificate, an OBSERVER of
+// the role table, whose permissions publish only the e-stop in its own partition besides the
+// sensor topics). Each insider announces its certificate in USER_DATA
 // as mostar participants do ("mostar.cert.der.1:" then the DER from NAME.cert.der), so that the
 // robot knows who it is. An insider acts as X twice: in its own partition with sender_id X, and
 // in X's partition. Its local access control refuses a writer in X's partition, so it makes the
 // writer in its own partition and then moves the publisher to X's partition: the robot sees a
-// writer announced in X's partition, as from a modified DDS stack. Without --pki,
-// --pilot-cert and --observer-cert only name the ids the participant without a certificate
-// plays in the insider attacks. The robot's state is watched by a separate witness participant
-// (--witness-cert under --pki: a legitimate observer).
+// writer announced in X's partition, as from a modified DDS stack. A topic its permissions refuse
+// even in its own partition gets no writer at all: that route is blocked before the wire (the
+// evidence says "no_writer"). Without --pki, --pilot-cert, --observer-cert and --relay-cert only
+// name the ids the participant without a certificate plays in the insider attacks. The robot's
+// state is watched by a separate witness participant (--witness-cert under --pki: a legitimate
+// observer).
+//
+// Transport: UDPv4 with default discovery; --dds-profile FILE takes transports and discovery
+// from the participant profile --dds-profile-name (default "operator") of a Fast DDS XML file
+// without DDS Security (e.g. deploy/dds/overlay.xml or wan.xml with the robot's address), as a
+// console on that deployment would have them; the security properties are still this tool's.
 //
 // Expects a live pilot (--victim) holding the lease at start, sending idle commands
 // (enable=false) and clock pings; --claim is a stronger pilot id of the role table that no
@@ -300,10 +309,17 @@ class Peer {
                                       const std::string& cert, bool announce,
                                       fdds::DomainParticipantListener* log = nullptr) {
     fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
+    if (!profile_name_.empty()) {
+      if (fdds::DomainParticipantFactory::get_instance()->get_participant_qos_from_profile(
+              profile_name_, qos) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+        return nullptr;
+      }
+    } else {
+      qos.transport().use_builtin_transports = false;
+      auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+      qos.transport().user_transports.push_back(udp);
+    }
     qos.name(label);
-    qos.transport().use_builtin_transports = false;
-    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-    qos.transport().user_transports.push_back(udp);
     if (!cert.empty()) {
       const std::string f = "file://" + pki + "/";
       auto& p = qos.properties().properties();
@@ -330,6 +346,20 @@ class Peer {
         domain, qos, log, fdds::StatusMask::none());
     if (participant == nullptr) return nullptr;
     return std::unique_ptr<Peer>(new Peer(participant, label, cert));
+  }
+  // Every participant made after this takes transports and discovery from participant profile
+  // `name` of the Fast DDS XML file `file`. False when the file or the profile cannot be read.
+  static bool UseProfile(const std::string& file, const std::string& name) {
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    fdds::DomainParticipantQos probe;
+    if (factory->load_XML_profiles_file(file) !=
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK ||
+        factory->get_participant_qos_from_profile(name, probe) !=
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      return false;
+    }
+    profile_name_ = name;
+    return true;
   }
   ~Peer() {
     participant_->delete_contained_entities();
@@ -425,6 +455,8 @@ class Peer {
     if (topic != nullptr) topics_[name] = topic;
     return topic;
   }
+
+  static inline std::string profile_name_;  // empty: UDPv4, default discovery
 
   fdds::DomainParticipant* participant_;
   std::string label_;
@@ -619,7 +651,10 @@ class Suite {
     std::string pki;
     std::string pilot_cert;
     std::string observer_cert;
+    std::string relay_cert;
     std::string witness_cert;
+    std::string dds_profile;
+    std::string dds_profile_name = "operator";
     std::string victim = "alice";
     std::string claim = "bob";
     int robot_pid = 0;
@@ -629,6 +664,12 @@ class Suite {
 
   int Run() {
     const bool secure = !options_.pki.empty();
+    if (!options_.dds_profile.empty() &&
+        !Peer::UseProfile(options_.dds_profile, options_.dds_profile_name)) {
+      std::cerr << "attacker: no participant profile '" << options_.dds_profile_name << "' in "
+                << options_.dds_profile << "\n";
+      return 1;
+    }
     witness_peer_ = Peer::Create(options_.domain, "witness", options_.pki,
                                  secure ? options_.witness_cert : "", false, &witness_log_);
     if (!witness_peer_ || !witness_.Start(witness_peer_.get())) {
@@ -642,6 +683,9 @@ class Suite {
     }
     if (secure && !options_.observer_cert.empty() &&
         !AddAttacker("observer", options_.observer_cert)) {
+      return 1;
+    }
+    if (secure && !options_.relay_cert.empty() && !AddAttacker("relay", options_.relay_cert)) {
       return 1;
     }
     // The eavesdropper: the participant without a certificate reads what it can.
@@ -670,8 +714,21 @@ class Suite {
       pongs_[p.sequence_number()] = p;
     });
 
-    const auto deadline = Clock::now() + 30s;
-    while (witness_.Healths() == 0 && Clock::now() < deadline) std::this_thread::sleep_for(100ms);
+    // A Fast DDS 2.9 TCP client participant whose connection delivers nothing from the start
+    // (docs/networking.md) is made again, as an operator would reconnect: twice at most.
+    for (int attempt = 0; attempt < 3 && witness_.Healths() == 0; ++attempt) {
+      if (attempt > 0) {
+        std::cerr << "attacker: the witness heard nothing in 15 s; it joins again\n";
+        witness_peer_.reset();
+        witness_peer_ = Peer::Create(options_.domain, "witness", options_.pki,
+                                     secure ? options_.witness_cert : "", false, &witness_log_);
+        if (!witness_peer_ || !witness_.Start(witness_peer_.get())) return 1;
+      }
+      const auto deadline = Clock::now() + 15s;
+      while (witness_.Healths() == 0 && Clock::now() < deadline) {
+        std::this_thread::sleep_for(100ms);
+      }
+    }
     if (witness_.Healths() == 0) {
       std::cerr << "attacker: the witness hears no health from the robot (its health reader "
                 << "matched " << witness_peer_->MatchedWriters(kHealth) << " writers, its lease "
@@ -683,6 +740,7 @@ class Suite {
       return 1;
     }
     WaitMatchedWriters(8s);
+    RejoinUnmatchedInsiders();
     // Writers as seen from here, matched/known per topic (cmd_vel, request, estop, ping).
     std::cout << "attacker: witness ready; credentials:";
     for (const Attacker& a : attackers_) {
@@ -727,7 +785,7 @@ class Suite {
   std::vector<std::string> ClaimedIds() const {
     std::vector<std::string> ids;
     for (const std::string& id : {options_.victim, options_.claim, Engager(), options_.pilot_cert,
-                                  options_.observer_cert}) {
+                                  options_.observer_cert, options_.relay_cert}) {
       if (!id.empty() && std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
     }
     return ids;
@@ -737,7 +795,13 @@ class Suite {
     return options_.observer_cert.empty() ? "carol" : options_.observer_cert;
   }
 
-  bool AddAttacker(const std::string& label, const std::string& cert) {
+  // Makes the attacking participants of `label` with certificate `cert`: a new attacker, or in
+  // place of `*replace`.
+  bool AddAttacker(const std::string& label, const std::string& cert, Attacker* replace = nullptr) {
+    if (replace != nullptr) {
+      replace->peer.reset();
+      replace->raw_peer.reset();
+    }
     Attacker a;
     a.peer = Peer::Create(options_.domain, label, options_.pki, cert, true);
     a.raw_peer = Peer::Create(options_.domain, label + "_raw", options_.pki, cert, true);
@@ -762,8 +826,34 @@ class Suite {
                                                InPartition(qos, PartitionOf(a.primary)));
       if (w != nullptr) a.raw[topic] = w;
     }
-    attackers_.push_back(std::move(a));
+    if (replace != nullptr) {
+      *replace = std::move(a);
+    } else {
+      attackers_.push_back(std::move(a));
+    }
     return true;
+  }
+
+  // An insider whose own e-stop writer (every credential may publish the e-stop in its own
+  // partition) the robot has not matched did not authenticate: over Fast DDS 2.9 TCP a client
+  // participant's connection sometimes delivers nothing from the start (docs/networking.md). It
+  // joins again, twice at most, so that its rows are not blocked for want of a connection.
+  void RejoinUnmatchedInsiders() {
+    for (int round = 0; round < 2; ++round) {
+      bool rejoined = false;
+      for (Attacker& a : attackers_) {
+        const WriterSet* own = a.self.empty() ? nullptr : a.Set(a.self);
+        if (own == nullptr || own->estop == nullptr || Matched(own->estop) > 0) continue;
+        const std::string label = a.peer->label();
+        const std::string self = a.self;
+        std::cerr << "attacker: the robot did not match " << label
+                  << "'s own e-stop writer; it joins again\n";
+        if (!AddAttacker(label, self, &a)) return;
+        rejoined = true;
+      }
+      if (!rejoined) return;
+      WaitMatchedWriters(10s);
+    }
   }
 
   // The writers of `a` in the partition of client `id`. The participant without a certificate
@@ -1174,10 +1264,10 @@ class Suite {
                Counters({"network.dropped_estop"}));
   }
 
-  // The insiders: a credential and the id it is (with --pki the pilot and the observer
+  // The insiders: a credential and the id it is (with --pki the pilot, observer and relay
   // certificates; without, the participant without a certificate plays them under their ids).
   struct Insider {
-    std::string role;  // "pilot" or "observer": the rows insider_<role>_*
+    std::string role;  // "pilot", "observer" or "relay": the rows insider_<role>_*
     std::string self;
     const Attacker* attacker;
   };
@@ -1185,7 +1275,8 @@ class Suite {
     std::vector<Insider> out;
     for (const auto& [role, id] :
          {std::pair<std::string, std::string>{"pilot", options_.pilot_cert},
-          {"observer", options_.observer_cert}}) {
+          {"observer", options_.observer_cert},
+          {"relay", options_.relay_cert}}) {
       if (id.empty()) continue;
       const Attacker* found = &attackers_.front();
       for (const Attacker& a : attackers_) {
@@ -1223,6 +1314,11 @@ class Suite {
     for (const std::string& n : names) out.push_back(CounterOf(n));
     return out;
   }
+  // ",route=no_writer" when `writer` is null: the insider's own permissions refuse the topic in
+  // that partition (or anywhere), so nothing of that route reaches the wire: blocked.
+  static std::string NoWriter(const fdds::DataWriter* writer) {
+    return writer == nullptr ? ",route=no_writer" : "";
+  }
   static std::string Joined(const std::vector<std::string>& items) {
     std::string out;
     for (const std::string& i : items) out += (out.empty() ? "" : ",") + i;
@@ -1255,7 +1351,7 @@ class Suite {
       witness_.WaitFreshHealth();
       const std::vector<std::string> others = witness_.HoldersOtherThan(options_.victim);
       open = open || !others.empty();
-      evidence += " in=" + set->Text() + ":release_as=" + options_.victim +
+      evidence += " in=" + set->Text() + ":release_as=" + options_.victim + NoWriter(set->request) +
                   ",lease_sequence=" + std::to_string(sequence_before) + "->" +
                   std::to_string(witness_.LeaseSequence()) + ",other_holders=" + Joined(others) +
                   Deltas(counters, before);
@@ -1298,7 +1394,7 @@ class Suite {
       open = open || Moved();
       std::ostringstream min;
       min << std::fixed << std::setprecision(3) << witness_.MinLinear();
-      evidence += " in=" + set->Text() + ":as=" + options_.victim +
+      evidence += " in=" + set->Text() + ":as=" + options_.victim + NoWriter(set->command) +
                   ",odom_min_linear=" + min.str() + ",holder=" + witness_.Holder() +
                   Deltas(counters, before);
     }
@@ -1375,7 +1471,7 @@ class Suite {
       const int64_t stale = witness_.Counter("drive_safety", "rejected_stale") - stale_before;
       const bool poisoned = stale >= 20 && stale > 2 * baseline + 10;
       open = open || poisoned;
-      evidence += " in=" + set->Text() + ":pings_as=" + options_.victim +
+      evidence += " in=" + set->Text() + ":pings_as=" + options_.victim + NoWriter(set->ping) +
                   ",victim_commands_stale=+" + std::to_string(stale) + Deltas(counters, before);
       if (poisoned) resets += ResetVictimClock();
     }
@@ -1415,7 +1511,7 @@ class Suite {
       witness_.WaitFreshHealth();
       const bool released = !witness_.Estop();
       open = open || released;
-      evidence += " in=" + set->Text() + ":release_as=" + options_.victim +
+      evidence += " in=" + set->Text() + ":release_as=" + options_.victim + NoWriter(set->estop) +
                   ",holder=" + witness_.Holder() + ",estop_engaged=" + (released ? "0" : "1") +
                   Deltas(counters, before);
     }
@@ -1578,6 +1674,12 @@ int Main(int argc, char** argv) {
                  "a pilot certificate's name in --pki (without: the id to play)");
   app.add_option("--observer-cert", options.observer_cert,
                  "an observer certificate's name (without --pki: the id)");
+  app.add_option("--relay-cert", options.relay_cert,
+                 "a relay certificate's name (without --pki: the id)");
+  app.add_option("--dds-profile", options.dds_profile,
+                 "Fast DDS XML file (no DDS Security) whose transports and discovery to use");
+  app.add_option("--dds-profile-name", options.dds_profile_name,
+                 "the participant profile of --dds-profile");
   app.add_option("--witness-cert", options.witness_cert,
                  "certificate of the participant that watches the robot");
   app.add_option("--victim", options.victim, "the live pilot's id (holds the lease)");

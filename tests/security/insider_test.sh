@@ -3,23 +3,30 @@
 # veth pair between two network namespaces: the robot in one; in the other a live pilot
 # (identity_actor as alice, holding the lease, idle commands and clock pings), a witness
 # (insider_witness: an honest observer, watcher, printing the robot's health and lease) and the
-# insider (insider_forger, Cyclone DDS): it holds carol's (observer) or mallory's (pilot)
-# credentials, announces alice's GUID and certificate, signs the handshake with its own key, and
-# tries alice's privileges in the old wire form (no partition) and in the partitions
+# insider (insider_forger, Cyclone DDS): it holds carol's (observer), mallory's (pilot) or the
+# relay's credentials, announces alice's GUID and certificate, signs the handshake with its own
+# key, and tries alice's privileges in the old wire form (no partition) and in the partitions
 # mostar.client.alice and mostar.client.<own>.
 #
 # Usage: insider_test.sh ROBOT_SERVER IDENTITY_ACTOR INSIDER_FORGER INSIDER_WITNESS SOURCE_DIR
 #
-# One fresh robot per credential and privilege; judged from what the witness saw after the
-# forger started:
-#   estop_release  the e-stop (engaged by the observer watcher) was released
+# One fresh robot per credential; the forger tries the privileges one after the other in that
+# session (clock_pings, cmd_vel, lease_release, then estop_release, for which the observer
+# watcher engages the e-stop first). Each privilege is judged from what the witness saw in that
+# privilege's own window, from its first try's start to its last try's end plus 3 s (the
+# forger's INSIDER lines), against the last state before the window:
 #   clock_pings    alice's commands were rejected as stale (drive_safety.rejected_stale rose)
-#   lease_release  the lease left alice (holder or lease_sequence changed)
 #   cmd_vel        the robot accepted a command with the forger's sequence numbers
+#   lease_release  the lease left alice (holder or lease_sequence changed)
+#   estop_release  the e-stop (engaged by the observer watcher) was released
 # Prints the table credential | forged id | privilege | outcome | evidence and fails unless every
-# row is blocked. Exit 77 (CTest: skipped) when network namespaces cannot be created.
+# row is blocked. A writer the credential's permissions refuse (Cyclone's own access control, with
+# the forger's --local-access-control) is the route blocked, not an error. Exit 77 (CTest:
+# skipped) when network namespaces cannot be created.
 # Environment: INSIDER_CREDENTIALS, INSIDER_PRIVILEGES (subsets), INSIDER_MAKE_PKI (another
-# make_pki.sh), KEEP_WORK=1 (keep the work directory).
+# make_pki.sh), INSIDER_PROFILE=lan|overlay (the robot's profile: deploy/dds/lan.xml, or
+# overlay.xml with the namespaces' addresses, the Cyclone participants then discovering the
+# robot by unicast only), KEEP_WORK=1 (keep the work directory).
 set -euo pipefail
 [ $# -eq 5 ] || {
   echo "usage: insider_test.sh ROBOT_SERVER IDENTITY_ACTOR INSIDER_FORGER INSIDER_WITNESS SOURCE_DIR" >&2
@@ -29,8 +36,17 @@ robot_server=$1; actor=$2; forger=$3; witness=$4; src=$5
 net="$src/tests/network"
 "$net/netns.sh" check || exit 77
 
-credentials=${INSIDER_CREDENTIALS:-"carol mallory"}
-privileges=${INSIDER_PRIVILEGES:-"estop_release clock_pings lease_release cmd_vel"}
+credentials=${INSIDER_CREDENTIALS:-"carol mallory relay"}
+privileges=${INSIDER_PRIVILEGES:-"clock_pings cmd_vel lease_release estop_release"}
+# The order in a session: estop_release last (the e-stop stays engaged once pressed), cmd_vel
+# after clock_pings (accepted forged commands would make alice's own ones out of order).
+order=""
+for p in clock_pings cmd_vel lease_release estop_release; do
+  for q in $privileges; do [ "$q" != "$p" ] || { order+=" $p"; break; }; done
+done
+for p in $privileges; do
+  case " $order " in *" $p "*) ;; *) echo "insider_test: unknown privilege $p" >&2; exit 2 ;; esac
+done
 make_pki=${INSIDER_MAKE_PKI:-"$src/deploy/security/make_pki.sh"}
 prefix="mins$$"
 work=$(mktemp -d /tmp/mostar_insider_XXXXXX)
@@ -49,12 +65,27 @@ robot_ns="${prefix}_robot"; operator_ns="${prefix}_operator"
 # lan.xml discovers by multicast: send it over the veth pair, not the namespace's loopback.
 for ns in "$robot_ns" "$operator_ns"; do ip -n "$ns" route replace 224.0.0.0/4 dev veth0; done
 domain=$((120 + $$ % 100))
-profile="$src/deploy/dds/lan.xml"
 pki="$work/pki"
+robot_addr=10.231.0.1; operator_addr=10.231.0.2  # tests/network/netns.sh
+case ${INSIDER_PROFILE:-lan} in
+  lan) profile="$src/deploy/dds/lan.xml"; profile_dir=() ;;
+  overlay)
+    # As attack_test.sh: make_overlay.sh's per-peer files with the namespaces' addresses.
+    profile="$work/operator.dds.xml"; profile_dir=(--profile-dir "$work")
+    for f in "$work/robot.dds.xml:$robot_addr" "$profile:$operator_addr"; do
+      sed -e "/mostar:overlay-address/s|<address>[0-9.]*</address>|<address>${f#*:}</address>|" \
+        -e "/mostar:robot-address/s|<address>[0-9.]*</address>|<address>$robot_addr</address>|" \
+        "$src/deploy/dds/overlay.xml" > "${f%%:*}"
+    done
+    # Cyclone: the veth address only, no multicast, the robot as its one peer.
+    export CYCLONEDDS_URI="<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"$operator_addr\"/></Interfaces><AllowMulticast>false</AllowMulticast><MaxMessageSize>8192B</MaxMessageSize></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer address=\"$robot_addr\"/></Peers></Discovery></Domain></CycloneDDS>" ;;
+  *) echo "insider_test: INSIDER_PROFILE must be lan or overlay" >&2; exit 2 ;;
+esac
 
 # Cyclone DDS takes domain ids up to 230 in governance and permissions.
-"$make_pki" "$pki" --profile "$profile" --domains 0-230 --pilot alice --pilot mallory --observer carol \
-  --observer watcher > "$work/make_pki.log" 2>&1 || { cat "$work/make_pki.log"; exit 1; }
+"$make_pki" "$pki" --profile "$profile" "${profile_dir[@]}" --domains 0-230 --pilot alice \
+  --pilot mallory --observer carol --observer watcher --relay relay > "$work/make_pki.log" 2>&1 \
+  || { cat "$work/make_pki.log"; exit 1; }
 
 cat > "$work/robot.pbtxt" <<EOF
 robot_id: "insider-target"
@@ -70,6 +101,7 @@ drive {
   roles { client_id: "mallory" role: PILOT strength: 5 }
   roles { client_id: "carol" role: OBSERVER }
   roles { client_id: "watcher" role: OBSERVER }
+  roles { client_id: "relay" role: OBSERVER }
 }
 EOF
 
@@ -97,8 +129,8 @@ field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }
 judge() {
   local wlog=$1 fout=$2 priv=$3
   local t0 t1
-  t0=$(grep '^INSIDER name=' "$fout" | head -1 | field t_start)
-  t1=$(grep '^INSIDER name=' "$fout" | tail -1 | field t_end)
+  t0=$(grep "^INSIDER name=$priv " "$fout" | head -1 | field t_start)
+  t1=$(grep "^INSIDER name=$priv " "$fout" | tail -1 | field t_end)
   [ -n "$t0" ] || { echo "error forger_made_no_try"; return; }
   awk -v t0="$t0" -v t1="$t1" -v priv="$priv" '
     function val(k,   i, kv) { for (i = 1; i <= NF; i++) { split($i, kv, "="); if (kv[1] == k) return kv[2] } return "" }
@@ -139,49 +171,71 @@ judge() {
 rows=()
 failures=0
 for cred in $credentials; do
-  for priv in $privileges; do
-    tag="$cred.$priv"
-    echo "== $cred forging alice: $priv"
-    start "$robot_ns" "$work/$tag.robot.log" "$robot_server" --domain "$domain" \
-      --config "$work/robot.pbtxt" --source sim --dds-profile "$pki/robot.xml"
-    robot_pid=$started
-    # shellcheck disable=SC2046
-    start "$operator_ns" "$work/$tag.witness" "$witness" --domain "$domain" $(creds watcher) \
-      --duration-s 200
-    witness_pid=$started
-    start "$operator_ns" "$work/$tag.alice.log" "$actor" --domain "$domain" \
-      --dds-profile "$pki/alice.xml" --sender-id alice --take --commands idle --pings \
-      --duration-s 200
-    alice_pid=$started
-    ok=1
-    wait_for "$work/$tag.witness" 40 'kind=health .*holder=alice' || ok=0
-    if [ "$ok" = 1 ] && [ "$priv" = estop_release ]; then
-      # The observer watcher presses the e-stop (it may); the robot keeps it engaged.
-      ip netns exec "$operator_ns" "$actor" --domain "$domain" --dds-profile "$pki/watcher.xml" \
-        --sender-id watcher --estop engage --duration-s 3 > "$work/$tag.engage.log" 2>&1 || true
-      wait_for "$work/$tag.witness" 10 'kind=health estop=1' || ok=0
-    fi
+  echo "== $cred forging alice:$order"
+  start "$robot_ns" "$work/$cred.robot.log" "$robot_server" --domain "$domain" \
+    --config "$work/robot.pbtxt" --source sim --dds-profile "$pki/robot.xml"
+  robot_pid=$started
+  # shellcheck disable=SC2046
+  start "$operator_ns" "$work/$cred.witness" "$witness" --domain "$domain" $(creds watcher) \
+    --duration-s 300
+  witness_pid=$started
+  start "$operator_ns" "$work/$cred.alice.log" "$actor" --domain "$domain" \
+    --dds-profile "$pki/alice.xml" --sender-id alice --take --commands idle --pings \
+    --duration-s 300
+  alice_pid=$started
+  ok=1
+  wait_for "$work/$cred.witness" 40 'kind=health .*holder=alice' || ok=0
+  engaged=1
+  if [ "$ok" = 1 ]; then
     sleep 2
+    tries=()
+    for p in $order; do tries+=(--try "$p"); done
+    go="$work/$cred.go"
+    # shellcheck disable=SC2046
+    ip netns exec "$operator_ns" timeout 240 "$forger" --domain "$domain" $(creds "$cred") \
+      --victim-cert "$pki/alice.cert.pem" --victim alice --self "$cred" "${tries[@]}" \
+      --wait-before estop_release --go-file "$go" > "$work/$cred.forger" \
+      2> "$work/$cred.forger.err" &
+    forger_pid=$!
+    pids+=("$forger_pid")
+    if [[ " $order " = *" estop_release "* ]]; then
+      engaged=0
+      while kill -0 "$forger_pid" 2>/dev/null \
+        && ! grep -q '^INSIDER_WAITING name=estop_release' "$work/$cred.forger"; do sleep 0.1; done
+      if grep -q '^INSIDER_WAITING name=estop_release' "$work/$cred.forger"; then
+        # The observer watcher presses the e-stop (it may); the robot keeps it engaged. A press
+        # whose participant the robot did not match in time is pressed again (at most 3 times).
+        for attempt in 1 2 3; do
+          ip netns exec "$operator_ns" "$actor" --domain "$domain" --dds-profile "$pki/watcher.xml" \
+            --sender-id watcher --estop engage --duration-s 3 >> "$work/$cred.engage.log" 2>&1 || true
+          if wait_for "$work/$cred.witness" 5 'kind=health estop=1'; then engaged=$attempt; break; fi
+        done
+      fi
+      touch "$go"
+    fi
+    wait "$forger_pid" || true
+    sleep 3
+    cat "$work/$cred.forger"
+  fi
+  authenticated=$(grep -c "alice.*authenticated\|authenticated.*alice" "$work/$cred.robot.log" || true)
+  for priv in $order; do
     if [ "$ok" = 1 ]; then
-      # shellcheck disable=SC2046
-      ip netns exec "$operator_ns" timeout 120 "$forger" --domain "$domain" $(creds "$cred") \
-        --victim-cert "$pki/alice.cert.pem" --victim alice --self "$cred" --try "$priv" \
-        > "$work/$tag.forger" 2> "$work/$tag.forger.err" || true
-      sleep 3
-      cat "$work/$tag.forger"
-      read -r outcome evidence <<< "$(judge "$work/$tag.witness" "$work/$tag.forger" "$priv")"
+      read -r outcome evidence <<< "$(judge "$work/$cred.witness" "$work/$cred.forger" "$priv")"
+      [ "$priv" != estop_release ] || [ "$engaged" != 0 ] || evidence+=" (the watcher's e-stop was not seen engaged)"
     else
       outcome=error
-      evidence="setup_failed(alice_not_holding_or_estop_not_engaged)"
+      evidence="setup_failed(alice_not_holding_the_lease)"
     fi
-    matched=$(grep '^INSIDER name=' "$work/$tag.forger" 2>/dev/null \
+    matched=$(grep "^INSIDER name=$priv " "$work/$cred.forger" 2>/dev/null \
       | sed -n 's/.* wire=\([a-z]*\) .* outcome=\([a-z_]*\) matched=\([0-9]*\).*/\1:\2:\3/p' | tr '\n' ',' || true)
-    authenticated=$(grep -c "alice.*authenticated\|authenticated.*alice" "$work/$tag.robot.log" || true)
-    released=$(grep -c "emergency stop release from alice$" "$work/$tag.robot.log" || true)
-    rows+=("| $cred | alice | $priv | $outcome | $evidence wires=${matched%,} robot_log_alice_authenticated=$authenticated robot_log_release_from_alice=$released |")
+    extra=""
+    if [ "$priv" = estop_release ]; then
+      extra=" engaged_at_press=$engaged robot_log_release_from_alice=$(grep -c "emergency stop release from alice$" "$work/$cred.robot.log" || true)"
+    fi
+    rows+=("| $cred | alice | $priv | $outcome | $evidence wires=${matched%,} robot_log_alice_authenticated=$authenticated$extra |")
     [ "$outcome" = blocked ] || failures=$((failures + 1))
-    stop "$alice_pid" "$witness_pid" "$robot_pid"
   done
+  stop "$alice_pid" "$witness_pid" "$robot_pid"
 done
 
 echo

@@ -15,10 +15,15 @@
 //   lease_release  control requests releasing the lease, every 200 ms
 //   cmd_vel        commands (10 disarmed, then 0.2 m/s), every 50 ms, sequence numbers from
 //                  3000000000
-// and prints one line per try:
+// The tries run in the order given, each in every wire form in turn: the writers of one try (one
+// per wire form) are made together and get one wait for their match (--match-wait-s), then each
+// writes for --try-s in turn. It prints one line per try and wire form:
 //   INSIDER name=TRY wire=FORM partition=P as=VICTIM outcome=sent|refused_locally matched=N
 //     samples=N t_start=S t_end=S
-// (t_* in wall-clock seconds). It knows nothing of the outcome: whoever runs it judges from what
+// (t_* in wall-clock seconds; a try's first line starts when its writers are made). With
+// --wait-before TRY --go-file PATH it prints "INSIDER_WAITING name=TRY" before that try and
+// waits until PATH exists (at most --go-wait-s), so that whoever runs it can set the robot up for
+// it (an e-stop to release). It knows nothing of the outcome: whoever runs it judges from what
 // the robot publishes. Exit 0 when it ran, 1 when it could not join the domain.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -64,6 +69,9 @@ struct Options {
   double match_wait_s = 4;
   double try_s = 2.5;
   double ready_wait_s = 20;
+  std::string wait_before;
+  std::string go_file;
+  double go_wait_s = 60;
 };
 
 bool ReadFile(const std::string& path, std::vector<uint8_t>* out) {
@@ -135,8 +143,17 @@ class Forger {
       return 1;
     }
     WaitForRobot();
-    for (const std::string& wire : o_.wires) {
-      for (const std::string& t : o_.tries) Try(t, wire);
+    // The next try's writers are made while the last wire form of a try writes, so that their
+    // wait for a match runs meanwhile.
+    Writers next = MakeWriters(o_.tries.empty() ? "" : o_.tries.front());
+    for (size_t i = 0; i < o_.tries.size(); ++i) {
+      const std::string& t = o_.tries[i];
+      if (t == o_.wait_before && !o_.go_file.empty()) WaitForGo(t);
+      Writers now = std::move(next);
+      next = {};
+      Try(t, now, [&] {
+        if (i + 1 < o_.tries.size()) next = MakeWriters(o_.tries[i + 1]);
+      });
     }
     dds_delete(participant_);
     return 0;
@@ -169,6 +186,13 @@ class Forger {
     std::printf("INSIDER_READY self=%s as=%s remote_participants=%d after_s=%.1f\n",
                 o_.self.c_str(), o_.victim.c_str(), remote, WallSeconds() - start);
     std::fflush(stdout);
+  }
+
+  void WaitForGo(const std::string& name) {
+    std::printf("INSIDER_WAITING name=%s\n", name.c_str());
+    std::fflush(stdout);
+    const auto deadline = Clock::now() + std::chrono::duration<double>(o_.go_wait_s);
+    while (!std::ifstream(o_.go_file) && Clock::now() < deadline) std::this_thread::sleep_for(50ms);
   }
 
   dds_entity_t Topic(const char* name, const dds_topic_descriptor_t* descriptor) {
@@ -207,11 +231,27 @@ class Forger {
     return static_cast<int>(status.current_count);
   }
 
-  int WaitMatched(dds_entity_t writer) {
-    const auto deadline = Clock::now() + std::chrono::duration<double>(o_.match_wait_s);
-    while (Matched(writer) == 0 && Clock::now() < deadline) std::this_thread::sleep_for(50ms);
-    if (Matched(writer) > 0) std::this_thread::sleep_for(300ms);  // let the match settle
-    return Matched(writer);
+  // One try's writers, one per wire form (negative: refused), and when they were made.
+  struct Writers {
+    std::vector<dds_entity_t> writers;
+    Clock::time_point made;
+  };
+
+  // Waits until every writer (refused ones, negative, aside) is matched, at most --match-wait-s
+  // after they were made.
+  void WaitMatched(const Writers& made) {
+    const std::vector<dds_entity_t>& writers = made.writers;
+    auto all = [&] {
+      return std::all_of(writers.begin(), writers.end(),
+                         [](dds_entity_t w) { return w < 0 || Matched(w) > 0; });
+    };
+    const auto deadline = made.made + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(o_.match_wait_s));
+    while (!all() && Clock::now() < deadline) std::this_thread::sleep_for(50ms);
+    if (std::any_of(writers.begin(), writers.end(),
+                    [](dds_entity_t w) { return w >= 0 && Matched(w) > 0; })) {
+      std::this_thread::sleep_for(300ms);  // let the matches settle
+    }
   }
 
   // Repeats `write` every `period` for the try's duration; returns the samples written.
@@ -226,25 +266,55 @@ class Forger {
     return written;
   }
 
-  void Try(const std::string& name, const std::string& wire) {
-    const std::string partition = PartitionOf(o_, wire);
-    const double t_start = WallSeconds();
-    const dds_topic_descriptor_t* descriptor = nullptr;
-    const char* topic = nullptr;
+  // The type of try `name`'s topic; its name in *topic.
+  static const dds_topic_descriptor_t* DescriptorOf(const std::string& name, const char** topic) {
     if (name == "estop_release") {
-      descriptor = &mostar_msgs_msg_dds__EmergencyStop__desc;
-      topic = kEstop;
-    } else if (name == "clock_pings") {
-      descriptor = &mostar_msgs_msg_dds__ClockProbe__desc;
-      topic = kPing;
-    } else if (name == "lease_release") {
-      descriptor = &mostar_msgs_msg_dds__ControlRequest__desc;
-      topic = kRequest;
-    } else {
-      descriptor = &mostar_msgs_msg_dds__VelocityCommand__desc;
-      topic = kCommand;
+      *topic = kEstop;
+      return &mostar_msgs_msg_dds__EmergencyStop__desc;
     }
-    const dds_entity_t writer = Writer(topic, descriptor, partition, topic == kCommand);
+    if (name == "clock_pings") {
+      *topic = kPing;
+      return &mostar_msgs_msg_dds__ClockProbe__desc;
+    }
+    if (name == "lease_release") {
+      *topic = kRequest;
+      return &mostar_msgs_msg_dds__ControlRequest__desc;
+    }
+    *topic = kCommand;
+    return &mostar_msgs_msg_dds__VelocityCommand__desc;
+  }
+
+  // The writers of try `name` in every wire form (none for an empty name).
+  Writers MakeWriters(const std::string& name) {
+    Writers out;
+    out.made = Clock::now();
+    if (name.empty()) return out;
+    const char* topic = nullptr;
+    const dds_topic_descriptor_t* descriptor = DescriptorOf(name, &topic);
+    for (const std::string& wire : o_.wires) {
+      out.writers.push_back(Writer(topic, descriptor, PartitionOf(o_, wire), topic == kCommand));
+    }
+    return out;
+  }
+
+  // One try in every wire form with the writers made for it: the rest of their wait for a
+  // match, then each writes in turn; `before_last` runs as the last one starts. The try's first
+  // line starts now (nothing of it was written before).
+  template <class F>
+  void Try(const std::string& name, const Writers& made, F before_last) {
+    double t_start = WallSeconds();
+    WaitMatched(made);
+    for (size_t i = 0; i < o_.wires.size(); ++i) {
+      if (i + 1 == o_.wires.size()) before_last();
+      Write(name, o_.wires[i], made.writers[i], t_start);
+      t_start = WallSeconds();
+    }
+  }
+
+  // Writes try `name` with `writer` (negative: refused) for --try-s and prints its line.
+  void Write(const std::string& name, const std::string& wire, dds_entity_t writer,
+             double t_start) {
+    const std::string partition = PartitionOf(o_, wire);
     int matched = 0;
     int samples = 0;
     std::string outcome = "refused_locally";
@@ -253,7 +323,7 @@ class Forger {
       detail = std::string(" error=") + dds_strretcode(writer);
     } else {
       outcome = "sent";
-      matched = WaitMatched(writer);
+      matched = Matched(writer);
       if (name == "estop_release") {
         samples = Repeat(200ms, [&] {
           mostar_msgs_msg_dds__EmergencyStop_ s{};
@@ -387,6 +457,10 @@ int main(int argc, char** argv) {
   app.add_option("--match-wait-s", o.match_wait_s, "wait this long for a writer's match");
   app.add_option("--try-s", o.try_s, "how long each try writes");
   app.add_option("--ready-wait-s", o.ready_wait_s, "wait this long to discover the robot");
+  app.add_option("--wait-before", o.wait_before, "before this try, wait for --go-file")
+      ->check(CLI::IsMember({"estop_release", "clock_pings", "lease_release", "cmd_vel"}));
+  app.add_option("--go-file", o.go_file, "the file whose existence lets --wait-before go on");
+  app.add_option("--go-wait-s", o.go_wait_s, "wait at most this long for --go-file");
   app.add_option("--plugins-library", o.plugins.auth_path, "the insider_plugins library");
   bool local_access_control = false;
   app.add_flag("--local-access-control", local_access_control,
