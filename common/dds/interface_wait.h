@@ -1,7 +1,9 @@
 // The local addresses a DDS profile's transports are restricted to (interfaceWhiteList), and
 // whether this host has them yet. A participant created while a whitelisted address does not
 // exist (robot_server started before its WireGuard overlay address) announces no locator on it
-// and is never discovered there, silently; so service programs wait for the addresses first
+// and is never discovered there, silently (Fast DDS 2.9.1's UDPv4Transport keeps only the
+// whitelisted addresses it finds on the host when the transport is made, and with none left
+// falls back to 192.0.2.0); so service programs wait for the addresses first
 // (ParticipantOptions::wait_for_interfaces).
 #pragma once
 

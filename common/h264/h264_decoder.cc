@@ -19,18 +19,8 @@ const char* DecodeStatusName(DecodeStatus status) {
   return "?";
 }
 
-struct Decoder::Codec {
-  AVCodecContext* context = nullptr;
-  AVFrame* frame = nullptr;
-  AVPacket* packet = nullptr;
-  SwsContext* sws = nullptr;
+struct Decoder::Codec : LibavState {
   std::vector<uint8_t> padded;  // the AU with AV_INPUT_BUFFER_PADDING_SIZE zero bytes after it
-  ~Codec() {
-    sws_freeContext(sws);
-    av_packet_free(&packet);
-    av_frame_free(&frame);
-    avcodec_free_context(&context);
-  }
 };
 
 std::unique_ptr<Decoder> Decoder::Create(std::string* error) {
@@ -41,13 +31,7 @@ std::unique_ptr<Decoder> Decoder::Create(std::string* error) {
     return nullptr;
   }
   auto c = std::make_unique<Codec>();
-  c->context = avcodec_alloc_context3(codec);
-  c->frame = av_frame_alloc();
-  c->packet = av_packet_alloc();
-  if (c->context == nullptr || c->frame == nullptr || c->packet == nullptr) {
-    if (error) *error = "h264 decoder: out of memory";
-    return nullptr;
-  }
+  if (!c->Allocate(codec, "h264 decoder", error)) return nullptr;
   // One thread: frame threads would hold one picture back per extra thread.
   c->context->thread_count = 1;
   c->context->flags |= AV_CODEC_FLAG_LOW_DELAY;
@@ -70,6 +54,13 @@ DecodeStatus Decoder::Fail(const std::string& message, std::string* error) {
 
 DecodeStatus Decoder::Decode(const uint8_t* data, size_t size, uint64_t sequence, cv::Mat* image,
                              std::string* error, Pixels pixels) {
+  // An empty packet would put libavcodec into draining (end of stream).
+  if (data == nullptr || size == 0) return Fail("empty access unit", error);
+  if (size > kMaxAccessUnitBytes) {
+    return Fail("access unit of " + std::to_string(size) + " bytes (at most " +
+                    std::to_string(kMaxAccessUnitBytes) + ")",
+                error);
+  }
   if (have_sequence_ && sequence != last_sequence_ + 1) {
     ++counters_.gaps;
     waiting_ = true;

@@ -42,7 +42,11 @@ class Decoder {
   Decoder(const Decoder&) = delete;
   Decoder& operator=(const Decoder&) = delete;
 
+  // The largest access unit accepted (a 1280x960 IDR at a high rate is well under 1 MiB).
+  static constexpr size_t kMaxAccessUnitBytes = 16u << 20;
+
   // Decodes the AU numbered `sequence` (consecutive numbers for consecutive AUs of the stream).
+  // An empty AU, or one over kMaxAccessUnitBytes, is an error like any undecodable one.
   DecodeStatus Decode(const uint8_t* data, size_t size, uint64_t sequence, cv::Mat* image,
                       std::string* error, Pixels pixels = Pixels::kBgr);
   // The last AU left the decoder waiting for an IDR: the sender should be asked for one.

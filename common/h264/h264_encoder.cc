@@ -11,18 +11,8 @@ namespace {
 constexpr int kMinBitrateBps = 50'000;
 }  // namespace
 
-struct Encoder::Codec {
-  AVCodecContext* context = nullptr;
-  AVFrame* frame = nullptr;
-  AVPacket* packet = nullptr;
-  SwsContext* sws = nullptr;
-  int sws_input_format = AV_PIX_FMT_NONE;
-  ~Codec() {
-    sws_freeContext(sws);
-    av_packet_free(&packet);
-    av_frame_free(&frame);
-    avcodec_free_context(&context);
-  }
+struct Encoder::Codec : LibavState {
+  int sws_input_format = AV_PIX_FMT_NONE;  // of the image `sws` was made for
 };
 
 bool EncoderSettings::IsValid(std::string* error) const {
@@ -50,13 +40,7 @@ std::unique_ptr<Encoder> Encoder::Create(const EncoderSettings& settings, std::s
     return nullptr;
   }
   auto c = std::make_unique<Codec>();
-  c->context = avcodec_alloc_context3(codec);
-  c->frame = av_frame_alloc();
-  c->packet = av_packet_alloc();
-  if (c->context == nullptr || c->frame == nullptr || c->packet == nullptr) {
-    if (error) *error = "h264 encoder: out of memory";
-    return nullptr;
-  }
+  if (!c->Allocate(codec, "h264 encoder", error)) return nullptr;
   AVCodecContext* ctx = c->context;
   ctx->width = settings.width_px;
   ctx->height = settings.height_px;

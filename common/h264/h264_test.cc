@@ -33,6 +33,20 @@ double MeanAbsDiff(const cv::Mat& a, const cv::Mat& b) {
   return cv::mean(cv::abs(a - b) + cv::abs(b - a))[0];
 }
 
+// An encoder of `settings` and a decoder, or a failed assertion.
+struct Codecs {
+  std::unique_ptr<Encoder> encoder;
+  std::unique_ptr<Decoder> decoder;
+};
+Codecs MakeCodecs(const EncoderSettings& settings) {
+  std::string error;
+  Codecs c{Encoder::Create(settings, &error), nullptr};
+  EXPECT_NE(c.encoder, nullptr) << error;
+  c.decoder = Decoder::Create(&error);
+  EXPECT_NE(c.decoder, nullptr) << error;
+  return c;
+}
+
 EncoderSettings Small() {
   EncoderSettings s;
   s.width_px = 320;
@@ -72,10 +86,10 @@ TEST(EncoderSettingsTest, RefusesOddSizesAndOutOfRangeRates) {
 // self-contained IDR and the rest are not; each decodes at once and looks like its source.
 TEST(H264Test, EachFrameComesOutAtOnceAndDecodesCloseToItsSource) {
   std::string error;
-  auto encoder = Encoder::Create(Small(), &error);
-  ASSERT_NE(encoder, nullptr) << error;
-  auto decoder = Decoder::Create(&error);
-  ASSERT_NE(decoder, nullptr) << error;
+  Codecs codecs = MakeCodecs(Small());
+  ASSERT_TRUE(codecs.encoder && codecs.decoder);
+  Encoder* encoder = codecs.encoder.get();
+  Decoder* decoder = codecs.decoder.get();
   for (int i = 0; i < 30; ++i) {
     const cv::Mat source = Frame(i);
     EncodedFrame au;
@@ -103,10 +117,10 @@ TEST(H264Test, EachFrameComesOutAtOnceAndDecodesCloseToItsSource) {
 // nothing and asks for an IDR until one arrives, then pictures are good again.
 TEST(H264Test, AfterALostAccessUnitNothingIsShownUntilAnIdr) {
   std::string error;
-  auto encoder = Encoder::Create(Small(), &error);
-  ASSERT_NE(encoder, nullptr) << error;
-  auto decoder = Decoder::Create(&error);
-  ASSERT_NE(decoder, nullptr) << error;
+  Codecs codecs = MakeCodecs(Small());
+  ASSERT_TRUE(codecs.encoder && codecs.decoder);
+  Encoder* encoder = codecs.encoder.get();
+  Decoder* decoder = codecs.decoder.get();
   cv::Mat picture;
   for (int i = 0; i < 20; ++i) {
     if (i == 12) encoder->ForceIdr();  // the robot answers the request
@@ -132,10 +146,10 @@ TEST(H264Test, AfterALostAccessUnitNothingIsShownUntilAnIdr) {
 // A reader that joins mid-stream shows nothing until the next IDR.
 TEST(H264Test, AJoiningReaderWaitsForTheFirstIdr) {
   std::string error;
-  auto encoder = Encoder::Create(Small(), &error);
-  ASSERT_NE(encoder, nullptr) << error;
-  auto decoder = Decoder::Create(&error);
-  ASSERT_NE(decoder, nullptr) << error;
+  Codecs codecs = MakeCodecs(Small());
+  ASSERT_TRUE(codecs.encoder && codecs.decoder);
+  Encoder* encoder = codecs.encoder.get();
+  Decoder* decoder = codecs.decoder.get();
   EXPECT_TRUE(decoder->NeedsIdr());
   cv::Mat picture;
   for (int i = 0; i < 8; ++i) {
@@ -156,10 +170,10 @@ TEST(H264Test, AJoiningReaderWaitsForTheFirstIdr) {
 // Damaged data is an error, never a picture; the decoder then waits for an IDR.
 TEST(H264Test, DamagedAccessUnitsAreErrorsNotPictures) {
   std::string error;
-  auto encoder = Encoder::Create(Small(), &error);
-  ASSERT_NE(encoder, nullptr) << error;
-  auto decoder = Decoder::Create(&error);
-  ASSERT_NE(decoder, nullptr) << error;
+  Codecs codecs = MakeCodecs(Small());
+  ASSERT_TRUE(codecs.encoder && codecs.decoder);
+  Encoder* encoder = codecs.encoder.get();
+  Decoder* decoder = codecs.decoder.get();
   cv::Mat picture;
   EncodedFrame au;
   ASSERT_TRUE(encoder->Encode(Frame(0), &au, &error)) << error;
@@ -183,6 +197,18 @@ TEST(H264Test, DamagedAccessUnitsAreErrorsNotPictures) {
   encoder->ForceIdr();
   ASSERT_TRUE(encoder->Encode(Frame(4), &au, &error)) << error;
   EXPECT_EQ(decoder->Decode(au.data.data(), au.data.size(), 4, &picture, &error),
+            DecodeStatus::kPicture)
+      << error;
+  // An empty access unit and an oversized one: errors with a reason; the stream recovers at the
+  // next IDR (an empty packet must not end the decoder's stream).
+  EXPECT_EQ(decoder->Decode(nullptr, 0, 5, &picture, &error), DecodeStatus::kError);
+  EXPECT_NE(error.find("empty access unit"), std::string::npos) << error;
+  const std::vector<uint8_t> huge(Decoder::kMaxAccessUnitBytes + 1, 0);
+  EXPECT_EQ(decoder->Decode(huge.data(), huge.size(), 6, &picture, &error), DecodeStatus::kError);
+  EXPECT_NE(error.find("at most"), std::string::npos) << error;
+  encoder->ForceIdr();
+  ASSERT_TRUE(encoder->Encode(Frame(7), &au, &error)) << error;
+  EXPECT_EQ(decoder->Decode(au.data.data(), au.data.size(), 7, &picture, &error),
             DecodeStatus::kPicture)
       << error;
 }

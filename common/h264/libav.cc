@@ -15,4 +15,20 @@ std::string AvError(int code) {
   return text;
 }
 
+LibavState::~LibavState() {
+  sws_freeContext(sws);
+  av_packet_free(&packet);
+  av_frame_free(&frame);
+  avcodec_free_context(&context);
+}
+
+bool LibavState::Allocate(const AVCodec* codec, const char* who, std::string* error) {
+  context = avcodec_alloc_context3(codec);
+  frame = av_frame_alloc();
+  packet = av_packet_alloc();
+  if (context != nullptr && frame != nullptr && packet != nullptr) return true;
+  if (error) *error = std::string(who) + ": out of memory";
+  return false;
+}
+
 }  // namespace mostar::h264

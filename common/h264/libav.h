@@ -22,4 +22,21 @@ void QuietLibav();
 // "Invalid data found when processing input" for an AVERROR code.
 std::string AvError(int code);
 
+// What the encoder and the decoder both hold: a codec context, a frame, a packet and a colour
+// converter, freed together.
+struct LibavState {
+  AVCodecContext* context = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* packet = nullptr;
+  SwsContext* sws = nullptr;
+
+  LibavState() = default;
+  LibavState(const LibavState&) = delete;
+  LibavState& operator=(const LibavState&) = delete;
+  ~LibavState();
+  // Allocates the context for `codec`, the frame and the packet; false with "`who`: out of
+  // memory" in `error`.
+  bool Allocate(const AVCodec* codec, const char* who, std::string* error);
+};
+
 }  // namespace mostar::h264

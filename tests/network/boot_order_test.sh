@@ -45,21 +45,16 @@ failures=0
 expect() {  # description, condition
   if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; failures=$((failures + 1)); fi
 }
-waited=0
-for _ in $(seq 100); do
-  grep -q "waiting up to .* for address $late" "$work/robot.log" && { waited=1; break; }
-  sleep 0.1
-done
-expect "robot_server says it waits for $late" '[ "$waited" = 1 ]'
+# Up to 10 s until the robot's log has a line matching the regex $1.
+logged() {
+  for _ in $(seq 100); do grep -q "$1" "$work/robot.log" && return 0; sleep 0.1; done
+  return 1
+}
+expect "robot_server says it waits for $late" 'logged "waiting up to .* for address $late"'
 sleep 2
 expect "robot_server is still waiting (alive)" 'kill -0 "$robot_pid" 2>/dev/null'
 ip -n "$robot_ns" addr add "$late/24" dev veth0
-up=0
-for _ in $(seq 100); do
-  grep -q "interface addresses are up" "$work/robot.log" && { up=1; break; }
-  sleep 0.1
-done
-expect "robot_server sees the address come up" '[ "$up" = 1 ]'
+expect "robot_server sees the address come up" 'logged "interface addresses are up"'
 ip netns exec "$operator_ns" "$net_probe" --domain "$domain" --dds-profile "$work/operator.xml" \
   --insecure --duration-s 10 > "$work/probe.out" 2> "$work/probe.err" || true
 cat "$work/probe.out"
