@@ -180,6 +180,14 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
+  video.SetKeyframeRequester([&node, &client_id, clock](uint64_t last, const std::string& reason) {
+    node->SendKeyframeRequest({clock->Now(), client_id, last, reason});
+  });
+  // On every way out, the receiver stops asking before the node goes (declared after it).
+  struct RequesterReset {
+    StereoReceiver& video;
+    ~RequesterReset() { video.SetKeyframeRequester(nullptr); }
+  } requester_reset{video};
 
   ui::CommandSenderOptions sender_options;
   sender_options.client_id = client_id;
@@ -244,7 +252,8 @@ int Run(int argc, char** argv) {
   {  // Fast DDS 2.9 can block here; end within 2 s of SIGTERM anyway (status 4, no report)
     const ExitDeadline deadline(FromMilliseconds(1500), 4, "operator_client", "DDS teardown");
     commands.Stop();
-    node.reset();  // no more callbacks into the recorder
+    video.SetKeyframeRequester(nullptr);  // it writes through the node
+    node.reset();                         // no more callbacks into the recorder
   }
   if (recorder && !recorder->Close(&error)) {
     std::cerr << "operator_client: recording: " << error << "\n";
@@ -286,7 +295,11 @@ int Run(int argc, char** argv) {
   std::cout << " oversized_images=" << stats.oversized_images
             << " future_pairs=" << stats.future_dropped << " stamp_resyncs=" << stats.stamp_resyncs
             << " left_decodes=" << stats.left_decodes << " right_decodes=" << stats.right_decodes
-            << " scaled_decodes=" << stats.scaled_decodes << "\n";
+            << " scaled_decodes=" << stats.scaled_decodes << " video_frames=" << stats.video_frames
+            << " video_gaps=" << stats.video_gaps << " video_errors=" << stats.video_errors
+            << " video_skipped=" << stats.video_skipped
+            << " video_queue_dropped=" << stats.video_queue_dropped
+            << " keyframe_requests=" << stats.keyframe_requests << "\n";
   return capture && !console.captured() ? 1 : 0;
 }
 

@@ -123,6 +123,11 @@ int Run(int argc, char** argv) {
       controller->OnCommandStreamLost(client_id);
     }
   };
+  std::atomic<camera::CameraPipeline*> pipeline_ptr{nullptr};
+  callbacks.on_keyframe_request = [&](const KeyframeRequest& request) {
+    MOSTAR_LOG_EVERY_SEC(INFO, 10) << "keyframe requested (" << request.reason << ")";
+    if (camera::CameraPipeline* camera = pipeline_ptr.load()) camera->RequestKeyframe();
+  };
   RobotNode::VideoOptions video;
   video.window_pairs = config.dds().video_window_pairs();
   video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());
@@ -157,6 +162,17 @@ int Run(int argc, char** argv) {
                                     trace.Add("right", pair.right.stamp, pair.sequence);
                                     return camera::Delivery::kSent;
                                   });
+  pipeline.SetVideoDelivery([robot_node, &trace](const StereoVideoFrame& frame) {
+    if (!robot_node->PublishStereoVideo(frame)) return camera::Delivery::kSkipped;
+    trace.Add("left", frame.stamp, frame.sequence);
+    trace.Add("right", frame.stamp, frame.sequence);
+    return camera::Delivery::kSent;
+  });
+  if (rec && devices.camera_options.codec == camera::VideoCodec::kH264) {
+    MOSTAR_LOG(WARNING) << "recording without camera images: recordings hold JPEG pairs, and "
+                           "the camera codec is H264 (use codec JPEG to record video)";
+  }
+  pipeline_ptr = &pipeline;
   if (settings.roles.size() == 0) {
     MOSTAR_LOG(WARNING) << "no pilots in the role table (drive.roles): nobody can drive";
   }

@@ -13,6 +13,8 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/dds/domain.h"
 #include "common/testing/subprocess.h"
@@ -95,6 +97,56 @@ class EndToEndTest : public ::testing::Test {
     ASSERT_FALSE(dir_.empty());
     domain_ = std::to_string(dds::PerProcessDomainId());
   }
+  // Runs robot_server with `server_config` and a headless observer (edge processing off) for
+  // 8 s with `display_args`, writing a screenshot to `screenshot`; both must end cleanly.
+  // Returns the observer's log (its report: line).
+  std::string RunObserver(const std::string& server_config,
+                          const std::vector<std::string>& display_args,
+                          const std::string& screenshot) {
+    Subprocess server;
+    std::string error;
+    EXPECT_TRUE(server.Start(
+        {Bin("robot_server/robot_server"), "--domain", domain_, "--config", server_config},
+        dir_ + "/server.log", &error))
+        << error;
+    Subprocess client;
+    const std::string config = dir_ + "/client.pbtxt";
+    {
+      std::ofstream out(config);
+      out << "calibration_profile: \"" << Source("deploy/config/calibration_sim.pbtxt")
+          << "\"\nvision_enabled: false\n";
+    }
+    std::vector<std::string> args = {Bin("operator_client/operator_client"),
+                                     "--headless",
+                                     "--domain",
+                                     domain_,
+                                     "--id",
+                                     "observer",
+                                     "--role",
+                                     "observer",
+                                     "--config",
+                                     config,
+                                     "--duration",
+                                     "8",
+                                     "--screenshot",
+                                     screenshot};
+    args.insert(args.end(), display_args.begin(), display_args.end());
+    EXPECT_TRUE(client.Start(args, dir_ + "/client.log", &error)) << error;
+    const std::optional<int> client_exit = client.Wait(std::chrono::seconds(90));
+    EXPECT_TRUE(client_exit.has_value()) << "client hung";
+    server.Signal(SIGTERM);
+    EXPECT_TRUE(server.Wait(std::chrono::seconds(20)).has_value()) << "server did not stop";
+    const std::string report = testing::ReadFile(dir_ + "/client.log");
+    EXPECT_EQ(client_exit.value_or(-1), 0) << report;
+    return report;
+  }
+  // The integer after " key=" in `report`; -1 (and a failure) when missing.
+  static int Value(const std::string& report, const std::string& key) {
+    const size_t at = report.find(" " + key + "=");
+    EXPECT_NE(at, std::string::npos) << key << " missing in " << report;
+    return at == std::string::npos ? -1 : std::stoi(report.substr(at + key.size() + 2));
+  }
+
   std::string dir_;
   std::string domain_;
 };
@@ -242,36 +294,9 @@ TEST_F(EndToEndTest, SonarSectorsShowTheGlassDoorTheLaserSeesThrough) {
 // client whose window shows one eye at 640x480 (mono-left, the 640x480 calibration profile):
 // the left eye is decoded at 1/2, the right one not at all, and the overlay is drawn.
 TEST_F(EndToEndTest, TheNativeResolutionIsDecodedAtTheWindowSizeAndMonoDecodesOneEye) {
-  Subprocess server;
-  std::string error;
-  ASSERT_TRUE(server.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
-                            Source("deploy/config/server_sim_1280.pbtxt")},
-                           dir_ + "/server.log", &error))
-      << error;
-  Subprocess client;
-  const std::string config = dir_ + "/client.pbtxt";
-  {
-    std::ofstream out(config);
-    out << "calibration_profile: \"" << Source("deploy/config/calibration_sim.pbtxt")
-        << "\"\nvision_enabled: false\n";
-  }
-  ASSERT_TRUE(
-      client.Start({Bin("operator_client/operator_client"), "--headless", "--domain", domain_,
-                    "--id", "observer", "--role", "observer", "--config", config, "--display",
-                    "mono-left", "--duration", "8", "--screenshot", dir_ + "/native.png"},
-                   dir_ + "/client.log", &error))
-      << error;
-  const std::optional<int> client_exit = client.Wait(std::chrono::seconds(90));
-  ASSERT_TRUE(client_exit.has_value()) << "client hung";
-  server.Signal(SIGTERM);
-  ASSERT_TRUE(server.Wait(std::chrono::seconds(20)).has_value()) << "server did not stop";
-  const std::string report = testing::ReadFile(dir_ + "/client.log");
-  ASSERT_EQ(*client_exit, 0) << report;
-  auto value = [&](const std::string& key) {
-    const size_t at = report.find(" " + key + "=");
-    EXPECT_NE(at, std::string::npos) << key << " missing in " << report;
-    return at == std::string::npos ? -1 : std::stoi(report.substr(at + key.size() + 2));
-  };
+  const std::string report = RunObserver(Source("deploy/config/server_sim_1280.pbtxt"),
+                                         {"--display", "mono-left"}, dir_ + "/native.png");
+  auto value = [&](const std::string& key) { return Value(report, key); };
   const int pairs = value("pairs_decoded");
   EXPECT_GE(pairs, 30) << report;
   EXPECT_EQ(value("left_decodes"), pairs) << report;
@@ -288,6 +313,29 @@ TEST_F(EndToEndTest, TheNativeResolutionIsDecodedAtTheWindowSizeAndMonoDecodesOn
   EXPECT_GT(content.grey_stddev, 10.0) << "a uniform frame: no video was drawn";
   EXPECT_GE(content.overlay_pixels, kMinOverlayShare * shot.cols * (shot.rows / 2))
       << "no AR overlay in the lower half of " << dir_ << "/native.png";
+}
+
+// Codec H264: the console decodes both eyes' streams and shows them with the overlay; a
+// console that joins a running stream starts at the IDR the robot sends when it matches.
+TEST_F(EndToEndTest, H264StreamsAreDecodedAndShownWithTheOverlay) {
+  const std::string report =
+      RunObserver(Source("deploy/config/server_sim_h264.pbtxt"), {}, dir_ + "/h264.png");
+  auto value = [&](const std::string& key) { return Value(report, key); };
+  EXPECT_GE(value("video_frames"), 30) << report;
+  EXPECT_GE(value("pairs_decoded"), 30) << report;
+  EXPECT_EQ(value("video_errors"), 0) << report;
+  EXPECT_EQ(value("broken_images"), 0) << report;
+  // Loopback loses nothing, and the join IDR comes first or soon after.
+  EXPECT_EQ(value("video_gaps"), 0) << report;
+  EXPECT_LE(value("video_skipped"), 15) << report;
+  const cv::Mat shot = cv::imread(dir_ + "/h264.png", cv::IMREAD_COLOR);
+  ASSERT_FALSE(shot.empty()) << "no screenshot in " << dir_;
+  const ScreenshotContent content = Analyse(shot);
+  EXPECT_GT(content.grey_stddev, 10.0) << "a uniform frame: no video was drawn";
+  EXPECT_GE(content.overlay_pixels, kMinOverlayShare * shot.cols * (shot.rows / 2))
+      << "no AR overlay in the lower half of " << dir_ << "/h264.png";
+  const std::string server_log = testing::ReadFile(dir_ + "/server.log");
+  EXPECT_NE(server_log.find("keyframe requested"), std::string::npos) << server_log;
 }
 
 TEST_F(EndToEndTest, BadFlagsAndConfigGiveClearErrors) {

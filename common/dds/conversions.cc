@@ -298,6 +298,57 @@ FrameTiming FromIdl(const wire::FrameTiming& timing) {
   return {FromIdl(timing.capture()), FromIdl(timing.encoded()), FromIdl(timing.written())};
 }
 
+wire::StereoVideoFrame ToIdl(const StereoVideoFrame& frame) {
+  wire::StereoVideoFrame out;
+  out.stamp(ToIdl(frame.stamp));
+  out.encoded(ToIdl(frame.encoded));
+  out.sequence_number(frame.sequence);
+  out.idr(frame.idr);
+  out.width_px(static_cast<uint16_t>(std::clamp(frame.width_px, 0, 65535)));
+  out.height_px(static_cast<uint16_t>(std::clamp(frame.height_px, 0, 65535)));
+  out.format(frame.format);
+  out.left(frame.left);
+  out.right(frame.right);
+  return out;
+}
+
+StereoVideoFrame FromIdl(const wire::StereoVideoFrame& frame) {
+  StereoVideoFrame out;
+  out.stamp = FromIdl(frame.stamp());
+  out.encoded = FromIdl(frame.encoded());
+  out.sequence = frame.sequence_number();
+  out.idr = frame.idr();
+  out.width_px = frame.width_px();
+  out.height_px = frame.height_px();
+  out.format = frame.format().to_string();
+  out.left = frame.left();
+  out.right = frame.right();
+  return out;
+}
+
+wire::KeyframeRequest ToIdl(const KeyframeRequest& request) {
+  wire::KeyframeRequest out;
+  out.stamp(ToIdl(request.stamp));
+  out.sender_id(request.sender_id);
+  out.last_sequence(request.last_sequence);
+  out.reason(request.reason);
+  return out;
+}
+
+KeyframeRequest FromIdl(const wire::KeyframeRequest& request) {
+  return {FromIdl(request.stamp()), request.sender_id().to_string(), request.last_sequence(),
+          request.reason().to_string()};
+}
+
+wire::CompressedVideo ToFoxgloveVideo(const StereoVideoFrame& frame, Eye eye) {
+  wire::CompressedVideo out;
+  out.timestamp(ToIdl(frame.stamp));
+  out.frame_id(eye == Eye::kLeft ? "camera_left" : "camera_right");
+  out.data(eye == Eye::kLeft ? frame.left : frame.right);
+  out.format("h264");
+  return out;
+}
+
 namespace {
 
 mostar_msgs::msg::dds_::SonarReading_ ToReading(const SonarRange& r) {

@@ -15,6 +15,7 @@
 #include "common/types/odometry.h"
 #include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
+#include "foxglove_msgs.h"
 #include "mostar_msgs.h"
 #include "ros2_msgs.h"
 
@@ -36,6 +37,9 @@ using Range = sensor_msgs::msg::dds_::Range_;
 using FrameTiming = mostar_msgs::msg::dds_::FrameTiming_;
 using SonarRing = mostar_msgs::msg::dds_::SonarRing_;
 using BumperState = mostar_msgs::msg::dds_::BumperState_;
+using StereoVideoFrame = mostar_msgs::msg::dds_::StereoVideoFrame_;
+using KeyframeRequest = mostar_msgs::msg::dds_::KeyframeRequest_;
+using CompressedVideo = foxglove_msgs::msg::dds_::CompressedVideo_;
 }  // namespace wire
 
 // Bounds of RobotHealth_ (idl/mostar_msgs.idl).
@@ -88,6 +92,17 @@ ClockProbe FromIdl(const wire::ClockProbe& probe);
 
 wire::FrameTiming ToIdl(const FrameTiming& timing);
 FrameTiming FromIdl(const wire::FrameTiming& timing);
+
+// Width and height are clamped to 0..65535; strings cut at their bounds.
+wire::StereoVideoFrame ToIdl(const StereoVideoFrame& frame);
+StereoVideoFrame FromIdl(const wire::StereoVideoFrame& frame);
+
+wire::KeyframeRequest ToIdl(const KeyframeRequest& request);
+KeyframeRequest FromIdl(const wire::KeyframeRequest& request);
+
+// One eye of `frame` as foxglove_msgs/CompressedVideo (frame_id "camera_left" or
+// "camera_right", format "h264", the capture stamp).
+wire::CompressedVideo ToFoxgloveVideo(const StereoVideoFrame& frame, Eye eye);
 
 // The belt's cycle with every sensor's mount; the ring's stamp is the newest sensor stamp.
 // Keeps the first kMaxSonars sensors; frame ids longer than 32 bytes are cut.

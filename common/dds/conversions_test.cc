@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "foxglove_msgsPubSubTypes.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "ros2_msgsPubSubTypes.h"
 
@@ -341,6 +342,56 @@ TEST(ConversionsTest, FrameTimingRoundTrip) {
   EXPECT_EQ(back.capture, timing.capture);
   EXPECT_EQ(back.encoded, timing.encoded);
   EXPECT_EQ(back.written, timing.written);
+}
+
+TEST(ConversionsTest, StereoVideoFrameRoundTrip) {
+  StereoVideoFrame frame;
+  frame.sequence = 41;
+  frame.stamp = kStamp;
+  frame.encoded = kStamp + std::chrono::microseconds(3200);
+  frame.idr = true;
+  frame.width_px = 1280;
+  frame.height_px = 960;
+  frame.left = {0, 0, 0, 1, 0x67, 0x42};
+  frame.right = {0, 0, 1, 0x65};
+  const StereoVideoFrame back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>(ToIdl(frame)));
+  EXPECT_EQ(back.sequence, 41u);
+  EXPECT_EQ(back.stamp, frame.stamp);
+  EXPECT_EQ(back.encoded, frame.encoded);
+  EXPECT_TRUE(back.idr);
+  EXPECT_EQ(back.width_px, 1280);
+  EXPECT_EQ(back.height_px, 960);
+  EXPECT_EQ(back.format, "h264");
+  EXPECT_EQ(back.left, frame.left);
+  EXPECT_EQ(back.right, frame.right);
+  frame.width_px = 70000;  // clamped, not wrapped
+  EXPECT_EQ(ToIdl(frame).width_px(), 65535);
+}
+
+TEST(ConversionsTest, KeyframeRequestRoundTripCutsLongStrings) {
+  const KeyframeRequest request{kStamp, std::string(80, 'a'), 17, "gap"};
+  const KeyframeRequest back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>(ToIdl(request)));
+  EXPECT_EQ(back.stamp, kStamp);
+  EXPECT_EQ(back.sender_id, std::string(64, 'a'));
+  EXPECT_EQ(back.last_sequence, 17u);
+  EXPECT_EQ(back.reason, "gap");
+}
+
+TEST(ConversionsTest, FoxgloveVideoCarriesOneEye) {
+  StereoVideoFrame frame;
+  frame.stamp = kStamp;
+  frame.left = {1, 2};
+  frame.right = {3};
+  const auto left = ThroughCdr<foxglove_msgs::msg::dds_::CompressedVideo_PubSubType>(
+      ToFoxgloveVideo(frame, Eye::kLeft));
+  EXPECT_EQ(FromIdl(left.timestamp()), kStamp);
+  EXPECT_EQ(left.frame_id(), "camera_left");
+  EXPECT_EQ(left.format(), "h264");
+  EXPECT_EQ(left.data(), frame.left);
+  EXPECT_EQ(ToFoxgloveVideo(frame, Eye::kRight).data(), frame.right);
+  EXPECT_EQ(ToFoxgloveVideo(frame, Eye::kRight).frame_id(), "camera_right");
 }
 
 TEST(ConversionsTest, BumperStateRoundTripAndClampedSegmentCount) {

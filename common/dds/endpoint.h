@@ -116,10 +116,12 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
   Writer(Participant& participant, const std::string& topic_name, Stream stream,
          int32_t /*ignored*/ = 0)
       : Writer(participant, topic_name, WriterQos(stream)) {}
+  // Called on a DDS thread when readers match (change > 0) or unmatch (change < 0).
+  using MatchCallback = std::function<void(int current_count_change)>;
   // With QoS made by the caller (e.g. VideoWriterQos).
   Writer(Participant& participant, const std::string& topic_name,
-         const eprosima::fastdds::dds::DataWriterQos& qos)
-      : participant_(participant) {
+         const eprosima::fastdds::dds::DataWriterQos& qos, MatchCallback on_match = {})
+      : participant_(participant), on_match_(std::move(on_match)) {
     auto* topic = participant.GetTopic(
         topic_name, eprosima::fastdds::dds::TypeSupport(new RefuseUndecodable<PubSubType>()),
         &error_);
@@ -164,10 +166,12 @@ class Writer : public eprosima::fastdds::dds::DataWriterListener, public MatchCo
       eprosima::fastdds::dds::DataWriter*,
       const eprosima::fastdds::dds::PublicationMatchedStatus& info) override {
     matched_ = info.current_count;
+    if (on_match_) on_match_(info.current_count_change);
   }
 
  private:
   Participant& participant_;
+  MatchCallback on_match_;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   std::string error_;
   std::atomic<uint64_t> written_{0};

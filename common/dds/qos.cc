@@ -1,5 +1,7 @@
 #include "common/dds/qos.h"
 
+#include <algorithm>
+
 namespace mostar::dds {
 
 namespace fdds = eprosima::fastdds::dds;
@@ -87,6 +89,22 @@ fdds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period) {
   // Keep-last 1: the history is full after every write, so Fast DDS 2.9 piggybacks a heartbeat
   // on each one (StatefulWriter::send_heartbeat_piggyback_nts_).
   qos.reliable_writer_qos().disable_heartbeat_piggyback = false;
+  return qos;
+}
+
+fdds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period, int32_t depth) {
+  fdds::DataWriterQos qos = VideoWriterQos(repair_period);
+  qos.history().depth = std::max<int32_t>(1, depth);
+  return qos;
+}
+
+fdds::DataReaderQos VideoStreamReaderQos(int32_t depth) {
+  fdds::DataReaderQos qos = ReaderQos(Stream::kVideo);
+  depth = std::max<int32_t>(1, depth);
+  qos.history().depth = depth;
+  qos.resource_limits().max_samples_per_instance = depth + kMissingSampleAllowance;
+  qos.resource_limits().max_samples = depth + kMissingSampleAllowance;
+  qos.resource_limits().allocated_samples = 1;
   return qos;
 }
 

@@ -49,6 +49,15 @@ constexpr std::chrono::milliseconds kDefaultVideoRepairPeriod{50};
 eprosima::fastdds::dds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period);
 eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 
+// The H.264 stream (rt/mostar/camera/stereo/h264): every access unit matters (a lost one breaks
+// the pictures until the next IDR), so reliable, keep last `depth` (> 0) access units, which
+// bounds memory and never blocks the writer: a reader that falls that far behind loses the
+// oldest, sees the gap in the AU numbers and asks for an IDR. Heartbeat every `repair_period`.
+eprosima::fastdds::dds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period,
+                                                           int32_t depth);
+eprosima::fastdds::dds::DataReaderQos VideoStreamReaderQos(int32_t depth);
+inline constexpr int32_t kVideoStreamDepth = 30;  // 1 s at 30 Hz
+
 // `qos` with the endpoint in the one DDS partition `partition` (Fast DDS 2.9's "partitions"
 // endpoint property; the publisher's or subscriber's own partitions no longer apply). Commands,
 // e-stops, control requests and clock pings travel in their writer's client partition

@@ -13,6 +13,10 @@ inline constexpr const char* kScan = "rt/mostar/scan";
 inline constexpr const char* kOdometry = "rt/mostar/odom";
 // One sensor_msgs/Range sample per sonar per belt cycle; frame_id names the sensor.
 inline constexpr const char* kSonarRange = "rt/mostar/sonar/range";
+// foxglove_msgs/CompressedVideo, one eye's H.264 stream (camera codec H264), for Foxglove and
+// ROS 2 tools; written only while a reader is matched.
+inline constexpr const char* kCameraLeftVideo = "rt/mostar/camera/left/h264";
+inline constexpr const char* kCameraRightVideo = "rt/mostar/camera/right/h264";
 
 // mostar's own topics.
 inline constexpr const char* kCommand = "rt/mostar/cmd_vel";
@@ -26,5 +30,10 @@ inline constexpr const char* kClockPong = "rt/mostar/clock/pong";
 inline constexpr const char* kCameraTiming = "rt/mostar/camera/timing";
 inline constexpr const char* kSonar = "rt/mostar/sonar";  // SonarRing_: the belt with mounts
 inline constexpr const char* kBumpers = "rt/mostar/bumpers";
+// StereoVideoFrame_: both eyes' H.264 access units of one capture (camera codec H264).
+inline constexpr const char* kCameraStereoVideo = "rt/mostar/camera/stereo/h264";
+// KeyframeRequest_: a viewer asks for an IDR (default partition: any viewer may ask; the robot
+// acts on one per 300 ms).
+inline constexpr const char* kKeyframeRequest = "rt/mostar/keyframe_request";
 
 }  // namespace mostar::dds::topics

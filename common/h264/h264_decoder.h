@@ -51,6 +51,9 @@ class Decoder {
                       std::string* error, Pixels pixels = Pixels::kBgr);
   // The last AU left the decoder waiting for an IDR: the sender should be asked for one.
   bool NeedsIdr() const { return waiting_; }
+  // Shows nothing more until the next IDR (a stereo viewer whose other eye lost its picture
+  // keeps both eyes on the same frames).
+  void RequireIdr() { waiting_ = true; }
   const DecoderCounters& counters() const { return counters_; }
 
   struct Codec;  // libavcodec state (implementation detail)

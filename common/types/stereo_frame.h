@@ -30,9 +30,31 @@ struct CameraIntrinsicsInfo {
 
 struct CompressedStereoPair {
   uint64_t sequence = 0;  // pair counter of the producer
-  Time encoded;           // when both JPEGs were done (wall clock of the producer)
+  Time encoded;           // when both eyes were compressed (wall clock of the producer)
   CompressedImage left;
   CompressedImage right;
+};
+
+// Both eyes of one capture as H.264 access units (Annex B) of two streams, one per eye, that
+// advance together (idl/mostar_msgs.idl StereoVideoFrame_).
+struct StereoVideoFrame {
+  uint64_t sequence = 0;  // AU number of both streams: consecutive for consecutive AUs
+  Time stamp;             // capture time of both eyes
+  Time encoded;           // both AUs done (producer's wall clock)
+  bool idr = false;       // both AUs are IDRs with SPS and PPS: decoding may start here
+  int width_px = 0;       // of each eye's pictures
+  int height_px = 0;
+  std::string format = "h264";
+  std::vector<uint8_t> left;
+  std::vector<uint8_t> right;
+};
+
+// A viewer asks the robot for an IDR (it joined, lost an AU, or could not decode one).
+struct KeyframeRequest {
+  Time stamp;              // sender's clock
+  std::string sender_id;   // a claim (logs only)
+  uint64_t last_sequence;  // last AU decoded, 0 = none
+  std::string reason;      // "join", "gap", "error"
 };
 
 // The robot-side stages of one pair (robot clock), published on rt/mostar/camera/timing.

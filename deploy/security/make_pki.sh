@@ -72,6 +72,8 @@
 #             them to observers) and estop (observers' engagements, read in mostar.client.*,
 #             go to the robot under the relay's name; list that name as an OBSERVER in the
 #             robot's role table); never cmd_vel, control/request or clock/ping.
+#   Every viewer (pilot, observer, relay) also publishes keyframe_request in the default
+#   partition (asks for an H.264 IDR); the robot and the relay subscribe it.
 set -euo pipefail
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
@@ -289,6 +291,9 @@ openssl smime -sign -text -in governance.xml -out governance.p7s \
 # partition.
 sensors="rt/mostar/camera/* rt/mostar/scan rt/mostar/odom rt/mostar/sonar rt/mostar/sonar/* rt/mostar/bumpers rt/mostar/health rt/mostar/control/lease"
 privileged="rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
+# Viewers' requests for an H.264 IDR: in the default partition, since the robot only rate-limits
+# them (one IDR per 300 ms) whoever asks.
+viewer_requests="rt/mostar/keyframe_request"
 topics_xml() { for t in "$@"; do printf '            <topic>%s</topic>\n' "$t"; done; }
 criteria() {  # publish|subscribe, "topics", partition ("" = the default partition)
   [ -n "$2" ] || return 0
@@ -312,13 +317,18 @@ allow_rule() {  # "publish topics", partition, "subscribe topics", partition
 }
 rules_for() {  # role, name
   case $1 in
-    robot) allow_rule "$sensors rt/mostar/clock/pong" "" "$privileged" "mostar.client.*" ;;
-    pilot) allow_rule "$privileged" "mostar.client.$2" "$sensors rt/mostar/clock/pong" "" ;;
+    robot)
+      allow_rule "$sensors rt/mostar/clock/pong" "" "$privileged" "mostar.client.*"
+      allow_rule "" "" "$viewer_requests" "" ;;
+    pilot)
+      allow_rule "$privileged" "mostar.client.$2" "$sensors rt/mostar/clock/pong" ""
+      allow_rule "$viewer_requests" "" "" "" ;;
     observer)
       allow_rule "rt/mostar/clock/ping rt/mostar/estop" "mostar.client.$2" \
-        "$sensors rt/mostar/clock/pong" "" ;;
+        "$sensors rt/mostar/clock/pong" ""
+      allow_rule "$viewer_requests" "" "" "" ;;
     relay)
-      allow_rule "$sensors" "" "$sensors" ""
+      allow_rule "$sensors $viewer_requests" "" "$sensors $viewer_requests" ""
       allow_rule "rt/mostar/estop" "mostar.client.$2" "rt/mostar/estop" "mostar.client.*" ;;
     *) die "unknown role '$1' of $2" ;;
   esac

@@ -15,6 +15,14 @@ OperatorNode::Callbacks InboxCallbacks(const ClientInbox& in) {
     if (in.recorder) in.recorder->Write(image, eye);
     in.video->Push(eye, image);
   };
+  callbacks.on_video = [in](const StereoVideoFrame& frame) {
+    if (in.trace) {
+      in.trace->Add("left", frame.stamp, 0);
+      in.trace->Add("right", frame.stamp, 0);
+      in.trace->Add("left_rx", in.clock->Now(), static_cast<uint64_t>(ToUnixNanos(frame.stamp)));
+    }
+    in.video->PushVideo(frame);  // not recorded: recordings hold JPEG images
+  };
   callbacks.on_scan = [in](const LaserScan& scan) {
     if (in.trace) in.trace->Add("scan", scan.stamp, 0);
     if (in.recorder) in.recorder->Write(scan);

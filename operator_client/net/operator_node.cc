@@ -4,6 +4,7 @@
 #include "common/dds/topics.h"
 #include "common/identity/client_id.h"
 #include "common/identity/sender_partition.h"
+#include "common/log/log.h"
 
 namespace mostar::client {
 
@@ -86,6 +87,22 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
         if (self->callbacks_.on_frame_timing)
           self->callbacks_.on_frame_timing(dds::FromIdl(timing));
       });
+  node->video_ = std::make_unique<decltype(node->video_)::element_type>(
+      p, topics::kCameraStereoVideo, dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
+      dds::kWithWriter, [self](const dds::wire::StereoVideoFrame& frame, const dds::WriterId&) {
+        if (self->callbacks_.on_video) self->callbacks_.on_video(dds::FromIdl(frame));
+      });
+  // Keyframe requests go in the default partition: the robot only rate-limits them. Permissions
+  // signed before the topic existed refuse the writer; the console then runs without it (H.264
+  // pictures resume at the robot's periodic IDR).
+  node->keyframe_ = std::make_unique<decltype(node->keyframe_)::element_type>(
+      p, topics::kKeyframeRequest, dds::WriterQos(Stream::kControl));
+  if (!node->keyframe_->ok()) {
+    MOSTAR_LOG(WARNING) << node->keyframe_->error()
+                        << ": the robot cannot be asked for H.264 keyframes; re-sign the "
+                           "permissions (make_pki.sh --update-permissions)";
+    node->keyframe_.reset();
+  }
   // What the robot must know the sender of goes out in this client's own partition: under DDS
   // Security the permissions of this client's certificate allow no other
   // (common/identity/sender_partition.h).
@@ -108,8 +125,9 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
       !Check(node->left_info_, error) || !Check(node->right_info_, error) ||
       !Check(node->odom_, error) || !Check(node->health_, error) || !Check(node->lease_, error) ||
       !Check(node->pong_, error) || !Check(node->sonar_, error) || !Check(node->bumpers_, error) ||
-      !Check(node->timing_, error) || !Check(node->command_, error) ||
-      !Check(node->estop_, error) || !Check(node->request_, error) || !Check(node->ping_, error)) {
+      !Check(node->timing_, error) || !Check(node->video_, error) ||
+      !Check(node->command_, error) || !Check(node->estop_, error) ||
+      !Check(node->request_, error) || !Check(node->ping_, error)) {
     return nullptr;
   }
   return node;
@@ -123,6 +141,9 @@ bool OperatorNode::SendEmergencyStop(const EmergencyStop& stop) {
 }
 bool OperatorNode::SendControlRequest(const ControlRequest& request) {
   return request_ != nullptr && request_->Write(dds::ToIdl(request));
+}
+bool OperatorNode::SendKeyframeRequest(const KeyframeRequest& request) {
+  return keyframe_ != nullptr && keyframe_->Write(dds::ToIdl(request));
 }
 bool OperatorNode::SendPing(const ClockProbe& probe) { return ping_->Write(dds::ToIdl(probe)); }
 

@@ -37,6 +37,8 @@ class OperatorNode {
     std::function<void(const SonarRanges&)> on_sonar;
     std::function<void(const BumperState&)> on_bumpers;
     std::function<void(const FrameTiming&)> on_frame_timing;
+    // Both eyes as H.264 access units (the robot's camera codec H264).
+    std::function<void(const StereoVideoFrame&)> on_video;
   };
   struct Options {
     // This console's client id (valid: client_id.h); its commands, e-stops, control requests and
@@ -53,6 +55,9 @@ class OperatorNode {
   bool SendEmergencyStop(const EmergencyStop& stop);
   bool SendControlRequest(const ControlRequest& request);
   bool SendPing(const ClockProbe& probe);
+  // Asks the robot for an IDR; false when DDS refused it or the permissions did not allow the
+  // writer (signed before the topic existed: a warning was logged at creation).
+  bool SendKeyframeRequest(const KeyframeRequest& request);
 
   bool robot_seen() const { return scan_->matched() > 0 || health_->matched() > 0; }
   bool is_pilot() const { return command_ != nullptr; }
@@ -72,6 +77,8 @@ class OperatorNode {
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::FrameTiming_PubSubType>> timing_;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>> video_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>> keyframe_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;

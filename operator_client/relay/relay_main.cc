@@ -3,14 +3,15 @@
 //
 // Two DDS participants: one on the robot side (domain --robot-domain, XML participant profile
 // --robot-profile-name, default "relay") subscribes to camera left/right, scan, odometry,
-// health and control lease; one on the observer side (domain --observer-domain, profile
+// health, control lease and the H.264 stream; one on the observer side (domain --observer-domain,
+// profile
 // --observer-profile-name, default "relay_observers") re-publishes every sample unchanged, with
-// the same QoS (common/dds/qos.h). Towards the robot only one thing goes: observers'
+// the same QoS (common/dds/qos.h). Towards the robot only two things go: observers'
 // emergency-stop engagements, under the relay's own id and thinned (estop_forwarding.h), so
-// anyone watching can stop the robot. Commands, control requests, clock pings and e-stop
-// releases are never forwarded: observers behind the relay cannot drive the robot or release a
-// stop, and with DDS Security the relay's permissions (deploy/security/make_pki.sh --relay)
-// allow it no other writer on the robot side.
+// anyone watching can stop the robot, and their H.264 keyframe requests. Commands, control
+// requests, clock pings and e-stop releases are never forwarded: observers behind the relay cannot
+// drive the robot or release a stop, and with DDS Security the relay's permissions
+// (deploy/security/make_pki.sh --relay) allow it no other writer on the robot side.
 //
 // The two sides must not share a DDS network: give them different domain ids (the default
 // observer domain is the robot domain + 1), or the relay would hear its own output.
@@ -60,11 +61,19 @@ class Forwarder final : public ForwarderBase {
  public:
   Forwarder(dds::Participant& robot_side, dds::Participant& observer_side, const char* topic,
             dds::Stream stream)
+      : Forwarder(robot_side, observer_side, topic, dds::WriterQos(stream),
+                  dds::ReaderQos(stream)) {}
+  // From `from` to `to` with the given QoS (the H.264 stream's depth; keyframe requests go the
+  // other way, observers to robot).
+  Forwarder(dds::Participant& from, dds::Participant& to, const char* topic,
+            const eprosima::fastdds::dds::DataWriterQos& writer_qos,
+            const eprosima::fastdds::dds::DataReaderQos& reader_qos)
       : topic_(topic),
-        writer_(observer_side, topic, stream),
-        reader_(robot_side, topic, stream, [this](const typename PubSubType::type& sample) {
-          if (!writer_.Write(sample)) ++dropped_;
-        }) {}
+        writer_(to, topic, writer_qos),
+        reader_(from, topic, reader_qos, dds::kWithWriter,
+                [this](const typename PubSubType::type& sample, const dds::WriterId&) {
+                  if (!writer_.Write(sample)) ++dropped_;
+                }) {}
 
   bool ok(std::string* error) const override {
     if (!writer_.ok()) *error = writer_.error();
@@ -231,6 +240,24 @@ int Main(int argc, char** argv) {
       *robot_side, *observer_side, topics::kSonarRange, Stream::kSensor));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::BumperState_PubSubType>>(
       *robot_side, *observer_side, topics::kBumpers, Stream::kState));
+  // The H.264 stream goes through unchanged: its AU numbers stay the robot's, so an observer
+  // sees every frame lost upstream of it as a gap and asks for an IDR.
+  forwarders.push_back(
+      std::make_unique<Forwarder<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>>(
+          *robot_side, *observer_side, topics::kCameraStereoVideo,
+          dds::VideoStreamWriterQos(dds::kDefaultVideoRepairPeriod, dds::kVideoStreamDepth),
+          dds::VideoStreamReaderQos(dds::kVideoStreamDepth)));
+  // Observers' keyframe requests go to the robot (which acts on one per 300 ms). Permissions
+  // signed before the topic existed refuse it: the relay then runs without.
+  auto keyframes = std::make_unique<Forwarder<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>>(
+      *observer_side, *robot_side, topics::kKeyframeRequest, dds::WriterQos(Stream::kControl),
+      dds::ReaderQos(Stream::kControl));
+  if (std::string why; !keyframes->ok(&why)) {
+    MOSTAR_LOG(WARNING) << why << ": observers' keyframe requests are not forwarded; re-sign the "
+                        << "permissions (make_pki.sh --update-permissions)";
+  } else {
+    forwarders.push_back(std::move(keyframes));
+  }
   if (!robot_side->own_client_id().empty()) relay_id = robot_side->own_client_id();
   if (std::string why; !identity::IsValidClientId(relay_id, &why)) {
     std::cerr << "mostar_relay: --id '" << relay_id << "' is not a valid client id: " << why

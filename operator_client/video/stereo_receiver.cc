@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/h264/h264_decoder.h"
 #include "common/jpeg/jpeg_decoder.h"
 #include "common/log/log.h"
 #include "operator_client/video/jpeg_header.h"
@@ -117,12 +118,154 @@ void StereoReceiver::Push(Eye eye, const CompressedImage& image) {
   cv_.notify_one();
 }
 
+void StereoReceiver::SetKeyframeRequester(KeyframeRequestFn request) {
+  std::lock_guard<std::mutex> lock(request_mutex_);
+  keyframe_request_ = std::move(request);
+}
+
+void StereoReceiver::PushVideo(const StereoVideoFrame& frame) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const size_t bytes = frame.left.size() + frame.right.size();
+  ++stats_.video_frames;
+  stats_.images += 2;
+  stats_.bytes += bytes;
+  const SteadyTime now = clock_->SteadyNow();
+  bytes_window_[now] += bytes;
+  while (!bytes_window_.empty() && now - bytes_window_.begin()->first > std::chrono::seconds(2)) {
+    bytes_window_.erase(bytes_window_.begin());
+  }
+  if (frame.format != "h264") {
+    ++stats_.broken_images;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+        << "video frame of format '" << frame.format << "' (not h264): dropped";
+    return;
+  }
+  const PairVerdict verdict = gate_.Check(frame.stamp, clock_->Now(), now);
+  if (verdict == PairVerdict::kFuture) {
+    // Not decoded: the next frame shows as a gap and an IDR is asked for.
+    ++stats_.future_dropped;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+        << "video frame stamped " << ToIso8601(frame.stamp) << " is in the future: dropped";
+    return;
+  }
+  if (verdict == PairVerdict::kResync) ++stats_.stamp_resyncs;
+  if (video_queue_.size() >= kMaxQueuedVideoFrames) {
+    stats_.video_queue_dropped += video_queue_.size();
+    video_queue_.clear();
+    video_overrun_ = true;
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "video decoding fell " << kMaxQueuedVideoFrames
+                                     << " frames behind: frames dropped, waiting for an IDR";
+  }
+  video_queue_.emplace_back(frame, now);
+  cv_.notify_one();
+}
+
+std::optional<DecodedStereoPair> StereoReceiver::DecodeVideo(const StereoVideoFrame& frame,
+                                                             std::string* reason) {
+  std::string error;
+  if (!left_video_decoder_) left_video_decoder_ = h264::Decoder::Create(&error);
+  if (!right_video_decoder_) right_video_decoder_ = h264::Decoder::Create(&error);
+  if (!left_video_decoder_ || !right_video_decoder_) {
+    MOSTAR_LOG_EVERY_SEC(ERROR, 10) << "no H.264 decoder: " << error;
+    return std::nullopt;
+  }
+  const uint64_t gaps_before =
+      left_video_decoder_->counters().gaps + right_video_decoder_->counters().gaps;
+  const uint64_t errors_before =
+      left_video_decoder_->counters().errors + right_video_decoder_->counters().errors;
+  DecodedStereoPair decoded;
+  std::string left_error;
+  std::string right_error;
+  const h264::DecodeStatus left = left_video_decoder_->Decode(
+      frame.left.data(), frame.left.size(), frame.sequence, &decoded.left, &left_error);
+  const h264::DecodeStatus right = right_video_decoder_->Decode(
+      frame.right.data(), frame.right.size(), frame.sequence, &decoded.right, &right_error);
+  const uint64_t gaps =
+      left_video_decoder_->counters().gaps + right_video_decoder_->counters().gaps - gaps_before;
+  const uint64_t errors = left_video_decoder_->counters().errors +
+                          right_video_decoder_->counters().errors - errors_before;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.video_gaps += gaps > 0 ? 1 : 0;
+    stats_.video_errors += errors;
+    ++stats_.left_decodes;
+    ++stats_.right_decodes;
+  }
+  if (errors > 0) {
+    MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+        << "undecodable H.264 frame " << frame.sequence << " ("
+        << (left_error.empty() ? right_error : left_error) << "): waiting for an IDR";
+  }
+  if (left == h264::DecodeStatus::kPicture && right == h264::DecodeStatus::kPicture) {
+    last_video_sequence_ = frame.sequence;
+    decoded.stamp = frame.stamp;
+    decoded.source_width_px = decoded.left.cols;
+    decoded.source_height_px = decoded.left.rows;
+    decoded.scale_denominator = 1;
+    decoded.compressed_bytes = frame.left.size() + frame.right.size();
+    return decoded;
+  }
+  // One eye without a picture: the other's is not shown either (a stereo pair or nothing).
+  if (left == h264::DecodeStatus::kPicture) left_video_decoder_->RequireIdr();
+  if (right == h264::DecodeStatus::kPicture) right_video_decoder_->RequireIdr();
+  *reason = errors > 0 ? "error" : gaps > 0 ? "gap" : last_video_sequence_ == 0 ? "join" : "gap";
+  return std::nullopt;
+}
+
 void StereoReceiver::DecodeLoop() {
   JpegDecoder decoder;
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
-    cv_.wait(lock, [this] { return stop_ || to_decode_.has_value(); });
+    cv_.wait(lock, [this] { return stop_ || to_decode_.has_value() || !video_queue_.empty(); });
     if (stop_) return;
+    if (!video_queue_.empty()) {
+      StereoVideoFrame frame = std::move(video_queue_.front().first);
+      const SteadyTime received = video_queue_.front().second;
+      video_queue_.pop_front();
+      std::string reason;
+      if (video_overrun_) {
+        // The frames dropped from the queue leave a gap: the decoders notice it themselves.
+        video_overrun_ = false;
+        reason = "overrun";
+      }
+      lock.unlock();
+      std::optional<DecodedStereoPair> decoded = DecodeVideo(frame, &reason);
+      const SteadyTime now = clock_->SteadyNow();
+      const bool waiting = left_video_decoder_ && right_video_decoder_ &&
+                           (left_video_decoder_->NeedsIdr() || right_video_decoder_->NeedsIdr());
+      bool ask = false;
+      if (waiting && (!last_keyframe_ask_ || now - *last_keyframe_ask_ >= kKeyframeReaskPeriod)) {
+        ask = true;
+        last_keyframe_ask_ = now;
+        if (reason.empty()) reason = "gap";
+      }
+      if (!waiting) last_keyframe_ask_.reset();
+      lock.lock();
+      stats_.waiting_for_keyframe = waiting;
+      if (decoded) {
+        decoded->received = received;
+        decoded->decoded = now;
+        decoded->sequence = ++stats_.pairs_decoded;
+        pair_rate_.Tick(now);
+        latest_ = std::move(*decoded);
+      } else {
+        ++stats_.video_skipped;
+      }
+      if (ask) {
+        lock.unlock();
+        bool sent = false;
+        {
+          std::lock_guard<std::mutex> request_lock(request_mutex_);
+          if (keyframe_request_) {
+            keyframe_request_(last_video_sequence_, reason);
+            sent = true;
+          }
+        }
+        lock.lock();
+        if (sent) ++stats_.keyframe_requests;
+      }
+      continue;
+    }
     CompressedStereoPair pair = std::move(*to_decode_);
     const SteadyTime received = to_decode_received_;
     const DecodeTarget target = target_;

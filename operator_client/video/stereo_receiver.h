@@ -9,15 +9,28 @@
 // order and a pair stamped in the future is refused (PairStampGate): a pair completed after a
 // newer one (the robot keeps several pairs in flight) is dropped and counted. The decoder
 // decodes only the eyes its DecodeTarget asks for, at the smallest DCT scale (1, 1/2, 1/4,
-// 1/8) that still covers the target size, the same scale for both eyes. Thread-safe.
+// 1/8) that still covers the target size, the same scale for both eyes.
+//
+// H.264 (PushVideo): every frame of the two streams is decoded, in order (they are predictive),
+// both eyes whatever the DecodeTarget, at full size. A gap in the AU numbers, an undecodable AU
+// or a picture with errors is never shown: Latest() keeps the last good pair while the
+// receiver waits for an IDR (ReceiverStats::waiting_for_keyframe: the picture is stale), and
+// asks the robot for one through the keyframe request callback, again every 200 ms until one
+// comes (libwebrtc's kMaxWaitForKeyFrame). Frames the decoder cannot keep up with (more than
+// kMaxQueuedVideoFrames waiting) are dropped together, counted, and an IDR is asked for.
+// Thread-safe.
 #pragma once
 
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <opencv2/core/mat.hpp>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "common/time/rate_meter.h"
@@ -25,6 +38,10 @@
 #include "common/timesync/clock_offset_estimator.h"
 #include "common/types/stereo_frame.h"
 #include "operator_client/video/pair_stamp_gate.h"
+
+namespace mostar::h264 {
+class Decoder;
+}  // namespace mostar::h264
 
 namespace mostar::client {
 
@@ -74,6 +91,14 @@ struct ReceiverStats {
   uint64_t scaled_decodes = 0;  // of those, decoded at a DCT scale below 1
   double pair_rate_hz = 0;
   double bitrate_bps = 0;
+  // H.264 only.
+  uint64_t video_frames = 0;          // StereoVideoFrames received
+  uint64_t video_gaps = 0;            // jumps in the AU numbers (lost frames upstream)
+  uint64_t video_errors = 0;          // undecodable AUs or pictures with errors
+  uint64_t video_skipped = 0;         // frames not shown while waiting for an IDR
+  uint64_t video_queue_dropped = 0;   // frames dropped because the decoder fell behind
+  uint64_t keyframe_requests = 0;     // requests sent to the robot
+  bool waiting_for_keyframe = false;  // the shown pair is stale until the next IDR
 };
 
 struct StereoReceiverOptions {
@@ -92,6 +117,16 @@ class StereoReceiver {
   StereoReceiver& operator=(const StereoReceiver&) = delete;
 
   void Push(Eye eye, const CompressedImage& image);
+  // Both eyes of one capture as H.264 access units (format "h264"; others are refused).
+  void PushVideo(const StereoVideoFrame& frame);
+  // How the receiver asks the robot for an IDR: called on the decoder thread, without the
+  // receiver's lock, with the last AU number decoded and a reason ("join", "gap", "error",
+  // "overrun"). When SetKeyframeRequester returns, no call of the previous function is running
+  // or will start (set nullptr before what it uses goes away).
+  using KeyframeRequestFn = std::function<void(uint64_t last_sequence, const std::string& reason)>;
+  void SetKeyframeRequester(KeyframeRequestFn request);
+  static constexpr size_t kMaxQueuedVideoFrames = 30;
+  static constexpr Duration kKeyframeReaskPeriod = std::chrono::milliseconds(200);
   // The size of one eye's images from the robot's CameraInfo; images that declare more are
   // refused. Zero or negative: unknown (the fixed limit applies).
   void SetExpectedSize(Eye eye, int width_px, int height_px);
@@ -105,6 +140,9 @@ class StereoReceiver {
 
  private:
   void DecodeLoop();
+  // Decodes one H.264 frame (decoder thread, lock not held); returns the pair when both eyes
+  // gave a picture. `reason` is set when an IDR must be asked for.
+  std::optional<DecodedStereoPair> DecodeVideo(const StereoVideoFrame& frame, std::string* reason);
 
   const Clock* clock_;
   const StereoReceiverOptions options_;
@@ -119,10 +157,19 @@ class StereoReceiver {
   std::map<int64_t, CompressedImage> pending_right_;
   std::optional<CompressedStereoPair> to_decode_;
   SteadyTime to_decode_received_;
+  std::deque<std::pair<StereoVideoFrame, SteadyTime>> video_queue_;  // with arrival times
+  bool video_overrun_ = false;  // frames were dropped from the queue: ask for an IDR
+  std::mutex request_mutex_;    // held while keyframe_request_ is set or called
+  KeyframeRequestFn keyframe_request_;
   std::optional<DecodedStereoPair> latest_;
   ReceiverStats stats_;
   RateMeter pair_rate_;
   std::map<SteadyTime, size_t> bytes_window_;
+  // Decoder thread only.
+  std::unique_ptr<h264::Decoder> left_video_decoder_;
+  std::unique_ptr<h264::Decoder> right_video_decoder_;
+  uint64_t last_video_sequence_ = 0;             // last AU decoded into a picture
+  std::optional<SteadyTime> last_keyframe_ask_;  // when an IDR was last asked for
   std::thread thread_;
 };
 

@@ -1,9 +1,10 @@
 // mostar_web: lets any number of browsers watch the robot's AR view (docs/web_observer.md).
-// Wiring only: DDS readers (never a writer: read-only by construction) feed the eye pairer and
-// the robot state; a compose thread hands the newest pair to edge processing (EdgeRunner),
-// turns it into one encoded frame for every browser (FrameComposer) with its own edge result
-// when that comes within --edges-wait-s and before the next pair, and the robot state into the
-// HUD four times a second; WebServer sends both to the browsers, each at the pace it can take.
+// Wiring only: DDS readers (never a writer: read-only by construction) feed the eye pairer (or,
+// for the H.264 stream, the VideoJpegBridge) and the robot state; a compose thread hands the newest
+// pair to edge processing (EdgeRunner), turns it into one encoded frame for every browser
+// (FrameComposer) with its own edge result when that comes within --edges-wait-s and before the
+// next pair, and the robot state into the HUD four times a second; WebServer sends both to the
+// browsers, each at the pace it can take.
 //
 // Threads: DDS receive threads (pairing under a mutex, the newest pair into a latest-value slot,
 // robot state); the compose thread; the edge thread; the web server's network thread; the main
@@ -38,6 +39,7 @@
 #include "operator_client/web/eye_pairer.h"
 #include "operator_client/web/frame_composer.h"
 #include "operator_client/web/hud_state.h"
+#include "operator_client/web/video_jpeg_bridge.h"
 #include "operator_client/web/web_server.h"
 #include "ros2_msgsPubSubTypes.h"
 
@@ -57,6 +59,7 @@ struct Readers {
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::SonarRing_PubSubType>> sonar;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers;
   std::unique_ptr<dds::Reader<nav_msgs::msg::dds_::Odometry_PubSubType>> odometry;
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>> video;
 
   bool ok(std::string* error) const {
     auto check = [error](const auto& r) {
@@ -64,7 +67,7 @@ struct Readers {
       return r->ok();
     };
     return check(left) && check(right) && check(left_info) && check(scan) && check(health) &&
-           check(lease) && check(sonar) && check(bumpers) && check(odometry);
+           check(lease) && check(sonar) && check(bumpers) && check(odometry) && check(video);
   }
 };
 
@@ -208,8 +211,16 @@ int Main(int argc, char** argv) {
     }
     if (pair) pairs.Put(std::move(*pair));
   };
+  // The robot's H.264 stream (camera codec H264), decoded and JPEG-encoded for the browsers.
+  web::VideoJpegBridge h264_bridge(
+      [&pairs](CompressedStereoPair pair) { pairs.Put(std::move(pair)); });
   Readers readers;
   auto& p = *participant;
+  readers.video = std::make_unique<decltype(readers.video)::element_type>(
+      p, topics::kCameraStereoVideo, dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
+      dds::kWithWriter, [&](const dds::wire::StereoVideoFrame& frame, const dds::WriterId&) {
+        h264_bridge.Push(dds::FromIdl(frame));
+      });
   readers.left = std::make_unique<decltype(readers.left)::element_type>(
       p, topics::kCameraLeft, Stream::kVideo,
       [&](const dds::wire::CompressedImage& image) { on_image(Eye::kLeft, image); });

@@ -1,6 +1,7 @@
 #include "robot_server/camera/camera_factory.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "robot_server/camera/fake_stereo_camera.h"
 #include "robot_server/camera/file_stereo_camera.h"
@@ -40,6 +41,15 @@ CameraPipelineOptions MakePipelineOptions(const CameraConfig& config) {
   controller.min_link_bits_per_s = bitrate.min_link_bits_per_s();
   const auto it = options.bitrate_classes.find(bitrate.initial_class());
   controller.target_bits_per_s = it != options.bitrate_classes.end() ? it->second : 0;
+  options.codec = config.codec() == CameraConfig::H264 ? VideoCodec::kH264 : VideoCodec::kJpeg;
+  options.frame_rate_hz = std::max(1, static_cast<int>(std::lround(config.fps())));
+  const H264Config& h264 = config.h264();
+  options.h264.preset = h264.preset();
+  options.h264.keyint_frames = h264.keyint_frames();
+  options.h264.intra_refresh = h264.intra_refresh();
+  options.h264.vbv_frames = h264.vbv_frames();
+  options.h264.threads_per_eye = h264.threads_per_eye();
+  options.h264.unlimited_bits_per_s = h264.unlimited_bits_per_s();
   return options;
 }
 
@@ -55,6 +65,14 @@ bool ValidateCameraConfig(const CameraConfig& config, std::string* error) {
     return false;
   }
   std::string reason;
+  if (config.codec() == CameraConfig::H264 && !options.h264.IsValid(&reason)) {
+    *error = "h264: " + reason;
+    return false;
+  }
+  if (config.codec() == CameraConfig::H264 && (config.width_px() % 2 || config.height_px() % 2)) {
+    *error = "width_px and height_px must be even for codec H264";
+    return false;
+  }
   if (!options.IsValid(&reason)) {
     *error = "bitrate: " + reason;
     return false;

@@ -33,6 +33,13 @@ bool CameraPipelineOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  if (codec == VideoCodec::kH264) {
+    if (!h264.IsValid(error)) return false;
+    if (frame_rate_hz < 1) {
+      *error = "frame_rate_hz must be >= 1";
+      return false;
+    }
+  }
   return bitrate.IsValid(error);
 }
 
@@ -195,24 +202,86 @@ void CameraPipeline::CaptureLoop() {
   }
 }
 
-void CameraPipeline::CompressLoop() {
-  LowerCurrentThreadPriority();
-  BitrateController controller(options_.bitrate);
-  JpegCompressor compressor(options_.parallel_compression);
-  CompressedStereoPair out;
+std::optional<StereoImagePair> CameraPipeline::NextPair(BitrateController* controller,
+                                                        double* h264_target) {
   for (;;) {
     std::optional<StereoImagePair> pair = slot_.Take(std::chrono::milliseconds(100));
     if (!pair) {
-      if (slot_.closed()) return;
+      if (slot_.closed()) return std::nullopt;
       continue;
     }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (pending_target_bits_per_s_ >= 0) {
+      controller->SetTargetBitsPerSecond(pending_target_bits_per_s_);
+      *h264_target = pending_target_bits_per_s_;
+      pending_target_bits_per_s_ = -1;
+    }
+    return pair;
+  }
+}
+
+void CameraPipeline::CountDelivery(Delivery delivery, SteadyTime now,
+                                   const BitrateController& controller) {
+  if (delivery == Delivery::kSent) {
+    ++delivered_;
+    delivered_rate_.Tick(now);
+  } else {
+    ++skipped_;
+  }
+  bitrate_stats_ = controller.Stats();
+}
+
+void CameraPipeline::EncodeH264Loop() {
+  BitrateController controller(options_.bitrate);  // for its statistics only
+  double target = options_.bitrate.target_bits_per_s;
+  H264StereoEncoder encoder(options_.h264, options_.frame_rate_hz, options_.parallel_compression);
+  StereoVideoFrame out;
+  for (;;) {
+    std::optional<StereoImagePair> pair = NextPair(&controller, &target);
+    if (!pair) return;
+    const SteadyTime start = clock_->SteadyNow();
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (pending_target_bits_per_s_ >= 0) {
-        controller.SetTargetBitsPerSecond(pending_target_bits_per_s_);
-        pending_target_bits_per_s_ = -1;
-      }
+      if (keyframes_.ShouldSendIdr(start)) encoder.ForceIdr();
     }
+    std::string error;
+    const bool ok = encoder.Encode(*pair, target * options_.bitrate.headroom, &out, &error);
+    if (!ok) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++encode_errors_;
+      }
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << options_.name << ": " << error;
+      continue;
+    }
+    out.encoded = clock_->Now();
+    const Delivery delivery = deliver_video_ ? deliver_video_(out) : Delivery::kSkipped;
+    const SteadyTime now = clock_->SteadyNow();
+    controller.OnPairEncoded(now, out.left.size() + out.right.size(), delivery == Delivery::kSent);
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (out.idr) {
+      keyframes_.OnIdrSent(start);
+      ++h264_idrs_;
+    }
+    h264_restarts_ = encoder.restarts();
+    CountDelivery(delivery, now, controller);
+    bitrate_stats_.quality = 0;  // no JPEG quality in H.264
+  }
+}
+
+void CameraPipeline::CompressLoop() {
+  LowerCurrentThreadPriority();
+  if (options_.codec == VideoCodec::kH264) {
+    EncodeH264Loop();
+    return;
+  }
+  BitrateController controller(options_.bitrate);
+  double unused_target = 0;
+  JpegCompressor compressor(options_.parallel_compression);
+  CompressedStereoPair out;
+  for (;;) {
+    std::optional<StereoImagePair> pair = NextPair(&controller, &unused_target);
+    if (!pair) return;
     const EncodeSettings settings = controller.Current();
     std::string error;
     if (!compressor.Compress(*pair, settings.jpeg, &out, &error)) {
@@ -229,13 +298,7 @@ void CameraPipeline::CompressLoop() {
     controller.OnPairEncoded(now, out.left.data.size() + out.right.data.size(),
                              delivery == Delivery::kSent);
     std::lock_guard<std::mutex> lock(mutex_);
-    if (delivery == Delivery::kSent) {
-      ++delivered_;
-      delivered_rate_.Tick(now);
-    } else {
-      ++skipped_;
-    }
-    bitrate_stats_ = controller.Stats();
+    CountDelivery(delivery, now, controller);
     frame_rate_divisor_ = controller.Current().frame_rate_divisor;
   }
 }
@@ -268,6 +331,13 @@ DeviceHealth CameraPipeline::Health() const {
       {"bitrate_bps", rounded(bitrate_stats_.achieved_bits_per_s)},
       {"target_bitrate_bps", rounded(bitrate_stats_.target_bits_per_s)},
   };
+  if (options_.codec == VideoCodec::kH264) {
+    const KeyframeRequestCounters& keyframes = keyframes_.counters();
+    health.counters.emplace_back("h264_idrs", h264_idrs_);
+    health.counters.emplace_back("keyframe_requests", keyframes.requests);
+    health.counters.emplace_back("keyframe_requests_deferred", keyframes.deferred);
+    health.counters.emplace_back("h264_encoder_restarts", h264_restarts_);
+  }
   health.counters.insert(health.counters.end(), camera_counters_.begin(), camera_counters_.end());
   return health;
 }
@@ -280,6 +350,13 @@ BitrateStats CameraPipeline::bitrate_stats() const {
 void CameraPipeline::SetTargetBitsPerSecond(double bits_per_s) {
   std::lock_guard<std::mutex> lock(mutex_);
   pending_target_bits_per_s_ = std::max(0.0, bits_per_s);
+}
+
+void CameraPipeline::RequestKeyframe() {
+  if (options_.codec != VideoCodec::kH264) return;
+  const SteadyTime now = clock_->SteadyNow();
+  std::lock_guard<std::mutex> lock(mutex_);
+  keyframes_.Request(now);
 }
 
 bool CameraPipeline::SetBitrateClass(const std::string& name) {

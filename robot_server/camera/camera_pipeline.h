@@ -1,4 +1,5 @@
-// Capture -> latest-value slot -> JPEG compression -> delivery, with health and reconnection.
+// Capture -> latest-value slot -> compression (JPEG, or H.264) -> delivery, with health and
+// reconnection.
 //
 // Two threads: the capture thread owns the StereoCamera (Open, Grab, Close, reopening it every
 // `reopen_period` after a loss or after `max_consecutive_timeouts` timeouts in a row); the
@@ -8,6 +9,13 @@
 // the transport sent the pair or skipped it at the source (ack-clock), which feeds the
 // bitrate control. Start(), Stop(), Health() and the setters never block on the camera or the
 // network (Stop() waits for the current Grab(), at most `grab_timeout`).
+//
+// With codec kH264 the compression thread encodes both eyes into two H.264 streams
+// (H264StereoEncoder) at the target bitrate x headroom (the configured class; unlimited: the
+// H.264 options' rate) and hands each StereoVideoFrame to the video delivery callback instead.
+// Every pair taken from the slot is encoded: the streams are predictive, so a pair the
+// transport skips shows as a gap to viewers, who then ask for an IDR (RequestKeyframe, at most
+// one IDR per 300 ms: KeyframeRequestLimiter).
 #pragma once
 
 #include <atomic>
@@ -26,7 +34,9 @@
 #include "common/types/health.h"
 #include "common/types/stereo_frame.h"
 #include "robot_server/camera/bitrate_controller.h"
+#include "robot_server/camera/h264_stereo_encoder.h"
 #include "robot_server/camera/jpeg_compressor.h"
+#include "robot_server/camera/keyframe_request_limiter.h"
 #include "robot_server/camera/stereo_camera.h"
 
 namespace mostar::camera {
@@ -35,6 +45,8 @@ enum class Delivery {
   kSent,     // the transport took the pair
   kSkipped,  // the transport skipped it at the source (previous pair not yet acknowledged)
 };
+
+enum class VideoCodec { kJpeg, kH264 };
 
 struct CameraPipelineOptions {
   std::string name = "stereo_camera";  // DeviceHealth name
@@ -45,6 +57,9 @@ struct CameraPipelineOptions {
   BitrateControllerOptions bitrate;
   // Named bitrate targets for SetBitrateClass(), bits/s, 0 = unlimited ("lan", "wan", ...).
   std::map<std::string, double> bitrate_classes = {{"lan", 0}, {"wan", 8e6}};
+  VideoCodec codec = VideoCodec::kJpeg;
+  H264StreamOptions h264;  // codec kH264
+  int frame_rate_hz = 30;  // the camera's nominal rate (H.264 rate control time base)
   bool IsValid(std::string* error) const;
 };
 
@@ -55,6 +70,7 @@ void LowerCurrentThreadPriority();
 class CameraPipeline {
  public:
   using DeliverFn = std::function<Delivery(const CompressedStereoPair&)>;
+  using DeliverVideoFn = std::function<Delivery(const StereoVideoFrame&)>;
 
   // `camera` is owned; `deliver` is called on the compression thread; `clock` (not owned,
   // outlives the pipeline) gives the monotonic time for rates and the bitrate control.
@@ -63,6 +79,9 @@ class CameraPipeline {
   ~CameraPipeline();  // Stop()
   CameraPipeline(const CameraPipeline&) = delete;
   CameraPipeline& operator=(const CameraPipeline&) = delete;
+
+  // Where H.264 frames go (codec kH264; called on the compression thread). Before Start().
+  void SetVideoDelivery(DeliverVideoFn deliver_video) { deliver_video_ = std::move(deliver_video); }
 
   // Starts both threads. The camera need not be present: it is opened (and reopened) by the
   // capture thread, and its absence shows in Health(). Idempotent.
@@ -73,7 +92,8 @@ class CameraPipeline {
   // Health snapshot (any thread): state, message and counters frames, pairs_delivered,
   // pairs_skipped_at_source, slot_drops, divided (not encoded: frame-rate divisor), timeouts,
   // device_lost, reopen_attempts, open_failures, encode_errors, jpeg_quality,
-  // jpeg_scale_percent, frame_rate_divisor, bitrate_bps, target_bitrate_bps, then the
+  // jpeg_scale_percent, frame_rate_divisor, bitrate_bps, target_bitrate_bps; with H.264 also
+  // h264_idrs, keyframe_requests, keyframe_requests_deferred, h264_encoder_restarts; then the
   // camera's own StereoCamera::Counters(); rate_hz is the delivered pair rate.
   DeviceHealth Health() const;
   BitrateStats bitrate_stats() const;
@@ -82,16 +102,25 @@ class CameraPipeline {
   void SetTargetBitsPerSecond(double bits_per_s);
   // Applies a configured class; false (unchanged) when the name is unknown.
   bool SetBitrateClass(const std::string& name);
+  // A viewer asked for an IDR (any thread; H.264 only, ignored with JPEG): the next pair is one,
+  // at most one per 300 ms (KeyframeRequestLimiter).
+  void RequestKeyframe();
 
  private:
   void CaptureLoop();
   void CompressLoop();
+  void EncodeH264Loop();
+  // The next pair taken from the slot, after applying a pending target; nullopt when closed.
+  std::optional<StereoImagePair> NextPair(BitrateController* controller, double* h264_target);
+  // Counts a delivered or skipped pair and takes the controller's statistics; mutex_ held.
+  void CountDelivery(Delivery delivery, SteadyTime now, const BitrateController& controller);
   void SetState(DeviceState state, const std::string& message);
   bool WaitForStop(Duration duration);  // true when stopping
 
   std::unique_ptr<StereoCamera> camera_;
   const CameraPipelineOptions options_;
   const DeliverFn deliver_;
+  DeliverVideoFn deliver_video_;
   const Clock* clock_;
   LatestValueSlot<StereoImagePair> slot_;
 
@@ -117,6 +146,9 @@ class CameraPipeline {
   int frame_rate_divisor_ = 1;
   double pending_target_bits_per_s_ = -1;  // < 0: no change requested
   BitrateStats bitrate_stats_;
+  KeyframeRequestLimiter keyframes_;
+  uint64_t h264_idrs_ = 0;
+  uint64_t h264_restarts_ = 0;
   std::vector<std::pair<std::string, uint64_t>> camera_counters_;
   mutable RateMeter delivered_rate_;
 };

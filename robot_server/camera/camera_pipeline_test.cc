@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <mutex>
 #include <thread>
 
+#include "common/h264/h264_decoder.h"
 #include "common/jpeg/jpeg_decoder.h"
+#include "common/time/fake_clock.h"
 #include "robot_server/camera/fake_stereo_camera.h"
 #include "robot_server/camera/jpeg_compressor.h"
 
@@ -183,6 +186,90 @@ TEST_F(CameraPipelineTest, BitrateClassesSwitchTheTarget) {
   ASSERT_TRUE(WaitFor([&] { return delivered_ >= 1; }));
   EXPECT_EQ(pipeline_->bitrate_stats().target_bits_per_s, 8e6);
   EXPECT_EQ(Counter(pipeline_->Health(), "target_bitrate_bps"), 8'000'000u);
+}
+
+// Codec H264: every pair becomes a StereoVideoFrame with consecutive AU numbers, starting with
+// an IDR; a keyframe request makes the next pair an IDR, at most one per 300 ms.
+TEST(CameraPipelineH264Test, DeliversNumberedFramesAndAnswersKeyframeRequests) {
+  FakeClock clock;  // the keyframe interval is judged on it
+  FakeStereoCamera::Options camera_options;
+  camera_options.width_px = 160;
+  camera_options.height_px = 120;
+  camera_options.clock = &clock;
+  auto owned_camera = std::make_unique<FakeStereoCamera>(camera_options);
+  FakeStereoCamera* camera = owned_camera.get();
+  CameraPipelineOptions options = FastOptions();
+  options.codec = VideoCodec::kH264;
+  options.h264.keyint_frames = 1000;
+  std::mutex mutex;
+  std::vector<StereoVideoFrame> frames;
+  std::string error;
+  std::unique_ptr<h264::Decoder> left = h264::Decoder::Create(&error);
+  ASSERT_NE(left, nullptr) << error;
+  int pictures = 0;
+  CameraPipeline pipeline(
+      std::move(owned_camera), options, [](const CompressedStereoPair&) { return Delivery::kSent; },
+      &clock);
+  pipeline.SetVideoDelivery([&](const StereoVideoFrame& frame) {
+    std::lock_guard<std::mutex> lock(mutex);
+    cv::Mat image;
+    std::string why;
+    if (left->Decode(frame.left.data(), frame.left.size(), frame.sequence, &image, &why) ==
+        h264::DecodeStatus::kPicture) {
+      ++pictures;
+    }
+    frames.push_back(frame);
+    return Delivery::kSent;
+  });
+  const auto count = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return frames.size();
+  };
+  pipeline.Start();
+  for (int i = 0; i < 3; ++i) {
+    camera->QueuePairs(1);
+    ASSERT_TRUE(WaitFor([&] { return count() >= static_cast<size_t>(i + 1); }));
+    clock.Advance(milliseconds(33));
+  }
+  clock.Advance(milliseconds(300));  // past the interval of the first IDR
+  pipeline.RequestKeyframe();
+  camera->QueuePairs(1);
+  ASSERT_TRUE(WaitFor([&] { return count() >= 4; }));
+  clock.Advance(milliseconds(33));
+  camera->QueuePairs(1);
+  ASSERT_TRUE(WaitFor([&] { return count() >= 5; }));
+  clock.Advance(milliseconds(33));
+  pipeline.RequestKeyframe();  // 66 ms after the last IDR: deferred to its 300 ms
+  camera->QueuePairs(1);
+  ASSERT_TRUE(WaitFor([&] { return count() >= 6; }));
+  clock.Advance(milliseconds(234));
+  camera->QueuePairs(1);
+  ASSERT_TRUE(WaitFor([&] { return count() >= 7; }));
+  // The counters follow the delivery callback.
+  ASSERT_TRUE(WaitFor([&] { return Counter(pipeline.Health(), "pairs_delivered") == 7; }));
+  std::lock_guard<std::mutex> lock(mutex);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(frames[i].sequence, i + 1);
+    EXPECT_EQ(frames[i].format, "h264");
+    EXPECT_EQ(frames[i].width_px, 160);
+    EXPECT_EQ(frames[i].height_px, 120);
+    EXPECT_FALSE(frames[i].left.empty());
+    EXPECT_FALSE(frames[i].right.empty());
+    EXPECT_FALSE(frames[i].encoded < frames[i].stamp);
+  }
+  EXPECT_TRUE(frames[0].idr);
+  EXPECT_FALSE(frames[1].idr);
+  EXPECT_FALSE(frames[2].idr);
+  EXPECT_TRUE(frames[3].idr);  // answered
+  EXPECT_FALSE(frames[4].idr);
+  EXPECT_FALSE(frames[5].idr);  // the second request waits for the end of the interval
+  EXPECT_TRUE(frames[6].idr);   // 300 ms after the last IDR
+  EXPECT_EQ(pictures, 7);
+  const DeviceHealth health = pipeline.Health();
+  EXPECT_EQ(Counter(health, "h264_idrs"), 3u);
+  EXPECT_EQ(Counter(health, "keyframe_requests"), 2u);
+  EXPECT_EQ(Counter(health, "keyframe_requests_deferred"), 1u);
+  EXPECT_EQ(Counter(health, "pairs_delivered"), 7u);
 }
 
 TEST(CameraPipelineOptionsTest, ValidationNamesTheProblem) {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "common/config/config_paths.h"
@@ -46,16 +47,22 @@ bool ReplaysBelts(const ServerConfig& config) {
          (config.sonar().sensors_size() > 0 || config.bumpers().backend() != BumperConfig::NONE);
 }
 
-// Built-in video sources (test pattern, simulator): the bitrate control of `camera.bitrate` when
-// the configuration has one (e.g. a WAN target), else the defaults; JPEG quality starts at
-// `initial_quality`; the resolution ladder for images `width_px` wide unless one is configured.
+// Built-in video sources (test pattern, simulator): the codec of `camera.codec` (with its
+// `camera.h264` options) at the source's `frame_rate_hz`; the bitrate control of
+// `camera.bitrate` when the configuration has one (e.g. a WAN target), else the defaults; JPEG
+// quality starts at `initial_quality`; the resolution ladder for images `width_px` wide unless
+// one is configured.
 void UseConfiguredBitrate(const ServerConfig& config, int initial_quality, int width_px,
                           camera::CameraPipelineOptions* options) {
+  const camera::CameraPipelineOptions configured = camera::MakePipelineOptions(config.camera());
   if (config.camera().has_bitrate()) {
-    const camera::CameraPipelineOptions configured = camera::MakePipelineOptions(config.camera());
     options->bitrate_classes = configured.bitrate_classes;
     options->bitrate = configured.bitrate;
   }
+  options->codec = configured.codec;
+  options->h264 = configured.h264;
+  options->frame_rate_hz =
+      std::max(1, static_cast<int>(std::lround(config.test_pattern().frame_rate_hz())));
   if (config.camera().bitrate().scales_size() == 0) {
     options->bitrate.scales = camera::DefaultScaleLadder(width_px);
   }

@@ -51,6 +51,8 @@ DeviceHealth RobotNode::NetworkHealth() const {
       {"video_lanes_reclaimed", lanes_reclaimed()},
       {"outbox_dropped", outbox_dropped()},
       {"frame_subscribers", static_cast<uint64_t>(frame_subscribers())},
+      {"h264_frames_sent", video_frames_sent()},
+      {"keyframe_requests_heard", keyframe_requests()},
       {"tcp_sockets_guarded", static_cast<uint64_t>(participant_->tcp_sockets_guarded())},
       {"dds_security_off", static_cast<uint64_t>(participant_->security_off())}};
   for (auto& counter : sender_check_->HealthCounters()) network.counters.push_back(counter);
@@ -117,6 +119,32 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
     lane.right = std::make_unique<ImageWriter>(p, topics::kCameraRight, video_qos);
     node->lanes_.push_back(std::move(lane));
   }
+  node->stereo_video_ = std::make_unique<decltype(node->stereo_video_)::element_type>(
+      p, topics::kCameraStereoVideo,
+      dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth), [self](int change) {
+        // A new viewer of the H.264 stream needs an IDR to start decoding: ask at once rather
+        // than wait for its own request one round trip later.
+        if (change > 0 && self->callbacks_.on_keyframe_request) {
+          KeyframeRequest join;
+          join.stamp = self->clock_->Now();
+          join.reason = "join";
+          self->callbacks_.on_keyframe_request(join);
+        }
+      });
+  for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+    (eye == Eye::kLeft ? node->left_video_ : node->right_video_) =
+        std::make_unique<decltype(node->left_video_)::element_type>(
+            p, eye == Eye::kLeft ? topics::kCameraLeftVideo : topics::kCameraRightVideo,
+            dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth),
+            [self](int change) {
+              if (change > 0 && self->callbacks_.on_keyframe_request) {
+                KeyframeRequest join;
+                join.stamp = self->clock_->Now();
+                join.reason = "join (foxglove)";
+                self->callbacks_.on_keyframe_request(join);
+              }
+            });
+  }
   node->left_info_ = std::make_unique<decltype(node->left_info_)::element_type>(
       p, topics::kCameraInfoLeft, Stream::kState);
   node->right_info_ = std::make_unique<decltype(node->right_info_)::element_type>(
@@ -148,8 +176,30 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
       dds::kWithWriter, [self](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
         self->OnUnlistedPing(dds::FromIdl(ping), from);
       });
+  // Keyframe requests come in the default partition from any viewer (they only cost an IDR,
+  // at most one per 300 ms). Permissions signed before this topic existed refuse the reader:
+  // the robot then runs without it (viewers wait for the periodic IDR), and says so.
+  node->keyframe_requests_reader_ = std::make_unique<KeyframeReader>(
+      p, topics::kKeyframeRequest, dds::ReaderQos(Stream::kControl), dds::kWithWriter,
+      [self](const dds::wire::KeyframeRequest& r, const dds::WriterId&) {
+        ++self->keyframe_requests_;
+        if (self->callbacks_.on_keyframe_request) {
+          self->callbacks_.on_keyframe_request(dds::FromIdl(r));
+        }
+      });
+  if (!node->keyframe_requests_reader_->ok()) {
+    MOSTAR_LOG(WARNING) << node->keyframe_requests_reader_->error()
+                        << ": keyframe requests are not heard (H.264 viewers wait for the "
+                           "periodic IDR); re-sign the permissions: make_pki.sh "
+                           "--update-permissions";
+    node->keyframe_requests_reader_.reset();
+  }
   for (const VideoLane& lane : node->lanes_) {
     if (!Check(lane.left, error) || !Check(lane.right, error)) return nullptr;
+  }
+  if (!Check(node->stereo_video_, error) || !Check(node->left_video_, error) ||
+      !Check(node->right_video_, error)) {
+    return nullptr;
   }
   if (!Check(node->scan_, error) || !Check(node->left_info_, error) ||
       !Check(node->right_info_, error) || !Check(node->odom_, error) ||
@@ -318,6 +368,20 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
   ++pairs_sent_;
   // The robot's half of the operator's latency trace, through the outbox (never blocks here).
   const FrameTiming timing{pair.left.stamp, pair.encoded, clock_->Now()};
+  Post([this, m = dds::ToIdl(timing)] { timing_->Write(m); });
+  return true;
+}
+
+bool RobotNode::PublishStereoVideo(const StereoVideoFrame& frame) {
+  video_write_since_ns_ = clock_->SteadyNow().time_since_epoch().count();
+  const bool ok = stereo_video_->Write(dds::ToIdl(frame));
+  if (left_video_->matched() > 0) left_video_->Write(dds::ToFoxgloveVideo(frame, Eye::kLeft));
+  if (right_video_->matched() > 0) right_video_->Write(dds::ToFoxgloveVideo(frame, Eye::kRight));
+  video_write_since_ns_ = 0;
+  if (!ok) return false;
+  ++pairs_sent_;
+  ++video_frames_sent_;
+  const FrameTiming timing{frame.stamp, frame.encoded, clock_->Now()};
   Post([this, m = dds::ToIdl(timing)] { timing_->Write(m); });
   return true;
 }

@@ -18,6 +18,7 @@
 // reset for the old and the new holder when the lease changes hands (seen in PublishLease).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -41,6 +42,7 @@
 #include "common/types/odometry.h"
 #include "common/types/sonar.h"
 #include "common/types/stereo_frame.h"
+#include "foxglove_msgsPubSubTypes.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "robot_server/node/clock_responder.h"
 #include "robot_server/node/command_writers.h"
@@ -77,6 +79,9 @@ class RobotNode final : public RobotLink {
     // The DDS liveliness of the last live cmd_vel writer of `client_id` was lost (silent for
     // the liveliness lease, or gone): its command stream is gone.
     std::function<void(const std::string& client_id)> on_command_stream_lost;
+    // A viewer asked for an IDR (KeyframeRequest_), or a new reader matched the H.264 stream
+    // (reason "join"): the camera pipeline decides when (at most one IDR per 300 ms).
+    std::function<void(const KeyframeRequest&)> on_keyframe_request;
   };
 
   using VideoOptions = RobotVideoOptions;
@@ -103,6 +108,11 @@ class RobotNode final : public RobotLink {
   // stuck reader skips to the newer pair). Such a reader is then offered at most
   // window_pairs / lane_timeout pairs per second.
   bool PublishStereo(const CompressedStereoPair& pair);
+  // Both eyes' H.264 access units on rt/mostar/camera/stereo/h264 (reliable, keep last
+  // kVideoStreamDepth: never skipped at the source, never blocks), each eye also as
+  // foxglove_msgs/CompressedVideo while a reader of that topic is matched, then the
+  // FrameTiming. False when DDS refused the sample.
+  bool PublishStereoVideo(const StereoVideoFrame& frame);
   // Intrinsics of one eye (transient local: late joiners get them at once).
   void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) override;
   // One eye, unconditionally (replay).
@@ -129,7 +139,12 @@ class RobotNode final : public RobotLink {
   std::optional<Duration> RobotMinusClient(const std::string& client_id) const override;
 
   // Remote endpoints currently matched (for health: how many viewers and pilots).
-  int frame_subscribers() const { return lanes_.front().left->matched(); }
+  int frame_subscribers() const {
+    return std::max(lanes_.front().left->matched(), stereo_video_->matched());
+  }
+  // Keyframe requests heard (all viewers), H.264 frames written.
+  uint64_t keyframe_requests() const { return keyframe_requests_.load(); }
+  uint64_t video_frames_sent() const { return video_frames_sent_.load(); }
   // Pairs written and pairs skipped because no lane was free.
   uint64_t pairs_sent() const { return pairs_sent_.load(); }
   uint64_t pairs_skipped() const { return pairs_skipped_.load(); }
@@ -224,6 +239,13 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::BumperState_PubSubType>> bumpers_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlLease_PubSubType>> lease_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> pong_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>> stereo_video_;
+  std::unique_ptr<dds::Writer<foxglove_msgs::msg::dds_::CompressedVideo_PubSubType>> left_video_;
+  std::unique_ptr<dds::Writer<foxglove_msgs::msg::dds_::CompressedVideo_PubSubType>> right_video_;
+  using KeyframeReader = dds::Reader<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>;
+  std::unique_ptr<KeyframeReader> keyframe_requests_reader_;  // null: permissions refused it
+  std::atomic<uint64_t> keyframe_requests_{0};
+  std::atomic<uint64_t> video_frames_sent_{0};
   std::vector<std::unique_ptr<SenderReaders>> senders_;
   std::unique_ptr<PingReader> unlisted_ping_;  // every client partition
 };

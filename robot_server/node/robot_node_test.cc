@@ -258,6 +258,86 @@ TEST(RobotNodeTest, PublishesTheSonarRingEachSensorsRangeAndTheBumperState) {
   EXPECT_EQ(got_bumpers->segment_count, 16);
 }
 
+// Codec H264: the stereo stream and its Foxglove mirror reach a viewer with the robot's AU
+// numbers; a new reader of the stream and a viewer's keyframe request both reach the camera.
+TEST(RobotNodeTest, TheH264StreamReachesViewersAndKeyframeRequestsReachTheCamera) {
+  auto robot = MakeParticipant("robot");
+  auto viewer = MakeParticipant("operator");
+  ASSERT_TRUE(robot && viewer);
+  std::mutex mutex;
+  std::vector<std::string> requests;  // reasons
+  RobotNode::Callbacks callbacks;
+  callbacks.on_keyframe_request = [&](const KeyframeRequest& request) {
+    std::lock_guard<std::mutex> lock(mutex);
+    requests.push_back(request.reason);
+  };
+  std::string error;
+  auto node = RobotNode::Create(robot.get(), {}, callbacks, &SystemClock::Instance(), &error);
+  ASSERT_NE(node, nullptr) << error;
+  std::vector<StereoVideoFrame> frames;
+  std::vector<std::string> foxglove;  // frame ids
+  dds::Reader<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType> video_reader(
+      *viewer, dds::topics::kCameraStereoVideo, dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
+      dds::kWithWriter, [&](const auto& m, const dds::WriterId&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        frames.push_back(dds::FromIdl(m));
+      });
+  dds::Reader<foxglove_msgs::msg::dds_::CompressedVideo_PubSubType> left_reader(
+      *viewer, dds::topics::kCameraLeftVideo, dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
+      dds::kWithWriter, [&](const auto& m, const dds::WriterId&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        foxglove.push_back(m.frame_id() + "/" + m.format());
+      });
+  dds::Writer<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType> request_writer(
+      *viewer, dds::topics::kKeyframeRequest, dds::WriterQos(dds::Stream::kControl));
+  ASSERT_TRUE(video_reader.ok() && left_reader.ok() && request_writer.ok());
+  auto count = [&](auto& v) {
+    std::lock_guard<std::mutex> lock(mutex);
+    return v.size();
+  };
+  for (int i = 0; i < 200 && (node->frame_subscribers() == 0 || count(requests) < 2); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    ASSERT_GE(requests.size(), 2u);  // both readers joined
+    EXPECT_EQ(requests[0].substr(0, 4), "join");
+  }
+  for (int i = 0; i < 200 && request_writer.matched() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(request_writer.Write(
+      dds::ToIdl(KeyframeRequest{SystemClock::Instance().Now(), "observer", 7, "gap"})));
+  for (uint64_t n = 1; n <= 3; ++n) {
+    StereoVideoFrame frame;
+    frame.sequence = n;
+    frame.stamp = SystemClock::Instance().Now();
+    frame.idr = n == 1;
+    frame.width_px = 640;
+    frame.height_px = 480;
+    frame.left.assign(2000, static_cast<uint8_t>(n));
+    frame.right.assign(1000, static_cast<uint8_t>(n));
+    ASSERT_TRUE(node->PublishStereoVideo(frame));
+  }
+  for (int i = 0; i < 200 && (count(frames) < 3 || count(foxglove) < 3 || count(requests) < 3);
+       ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_EQ(frames.size(), 3u);
+  for (uint64_t n = 1; n <= 3; ++n) {
+    EXPECT_EQ(frames[n - 1].sequence, n);
+    EXPECT_EQ(frames[n - 1].left.size(), 2000u);
+    EXPECT_EQ(frames[n - 1].right.front(), n);
+  }
+  EXPECT_TRUE(frames[0].idr);
+  EXPECT_EQ(foxglove, (std::vector<std::string>(3, "camera_left/h264")));
+  ASSERT_EQ(requests.size(), 3u);
+  EXPECT_EQ(requests[2], "gap");
+  EXPECT_EQ(node->keyframe_requests(), 1u);
+  EXPECT_EQ(node->video_frames_sent(), 3u);
+}
+
 TEST(RobotNodeTest, RejectsAnInvalidVideoWindow) {
   auto robot = MakeParticipant("robot");
   ASSERT_TRUE(robot);

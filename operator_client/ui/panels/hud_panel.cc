@@ -22,6 +22,16 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
               video.bitrate_bps / 1e6, status.has_pair ? status.display_age_ms : 0.0);
   ImGui::Text("scan %.1f Hz  frame %.1f ms  %s", robot.scan_rate_hz, status.frame_time_ms,
               render::DisplayModeName(status.mode));
+  if (video.waiting_for_keyframe) {
+    ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1),
+                       "VIDEO STALE: H.264 data lost, waiting for a keyframe (asked %llu times)",
+                       static_cast<unsigned long long>(video.keyframe_requests));
+  } else if (video.video_gaps > 0 || video.video_errors > 0) {
+    ImGui::Text("H.264: %llu gaps  %llu undecodable  %llu keyframes asked",
+                static_cast<unsigned long long>(video.video_gaps),
+                static_cast<unsigned long long>(video.video_errors),
+                static_cast<unsigned long long>(video.keyframe_requests));
+  }
   if (video.broken_images > 0 || video.pairs_dropped > 0) {
     ImGui::Text("dropped pairs %llu  broken JPEG %llu",
                 static_cast<unsigned long long>(video.pairs_dropped),
