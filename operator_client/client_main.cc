@@ -183,10 +183,17 @@ int Run(int argc, char** argv) {
   video.SetKeyframeRequester([&node, &client_id, clock](uint64_t last, const std::string& reason) {
     node->SendKeyframeRequest({clock->Now(), client_id, last, reason});
   });
-  // On every way out, the receiver stops asking before the node goes (declared after it).
+  video.SetFeedbackSender([&node, &client_id, clock](const std::vector<VideoFrameArrival>& a) {
+    node->SendVideoFeedback({clock->Now(), client_id, a});
+  });
+  // On every way out, the receiver stops writing through the node before it goes (declared
+  // after it).
   struct RequesterReset {
     StereoReceiver& video;
-    ~RequesterReset() { video.SetKeyframeRequester(nullptr); }
+    ~RequesterReset() {
+      video.SetKeyframeRequester(nullptr);
+      video.SetFeedbackSender(nullptr);
+    }
   } requester_reset{video};
 
   ui::CommandSenderOptions sender_options;
@@ -252,8 +259,9 @@ int Run(int argc, char** argv) {
   {  // Fast DDS 2.9 can block here; end within 2 s of SIGTERM anyway (status 4, no report)
     const ExitDeadline deadline(FromMilliseconds(1500), 4, "operator_client", "DDS teardown");
     commands.Stop();
-    video.SetKeyframeRequester(nullptr);  // it writes through the node
-    node.reset();                         // no more callbacks into the recorder
+    video.SetKeyframeRequester(nullptr);  // they write through the node
+    video.SetFeedbackSender(nullptr);
+    node.reset();  // no more callbacks into the recorder
   }
   if (recorder && !recorder->Close(&error)) {
     std::cerr << "operator_client: recording: " << error << "\n";

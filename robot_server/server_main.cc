@@ -128,6 +128,9 @@ int Run(int argc, char** argv) {
     MOSTAR_LOG_EVERY_SEC(INFO, 10) << "keyframe requested (" << request.reason << ")";
     if (camera::CameraPipeline* camera = pipeline_ptr.load()) camera->RequestKeyframe();
   };
+  callbacks.on_video_feedback = [&](const VideoFeedback& feedback) {
+    if (camera::CameraPipeline* camera = pipeline_ptr.load()) camera->OnVideoFeedback(feedback);
+  };
   RobotNode::VideoOptions video;
   video.window_pairs = config.dds().video_window_pairs();
   video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());

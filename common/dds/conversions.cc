@@ -340,6 +340,31 @@ KeyframeRequest FromIdl(const wire::KeyframeRequest& request) {
           request.reason().to_string()};
 }
 
+wire::VideoFeedback ToIdl(const VideoFeedback& feedback) {
+  wire::VideoFeedback out;
+  out.stamp(ToIdl(feedback.stamp));
+  out.sender_id(feedback.sender_id);
+  const size_t n = std::min(feedback.arrivals.size(), VideoFeedback::kMaxArrivals);
+  for (size_t i = 0; i < n; ++i) {
+    mostar_msgs::msg::dds_::FrameArrival_ arrival;
+    arrival.sequence_number(feedback.arrivals[i].sequence);
+    arrival.arrival_ns(feedback.arrivals[i].arrival_ns);
+    arrival.bytes(feedback.arrivals[i].bytes);
+    out.arrivals().push_back(arrival);
+  }
+  return out;
+}
+
+VideoFeedback FromIdl(const wire::VideoFeedback& feedback) {
+  VideoFeedback out;
+  out.stamp = FromIdl(feedback.stamp());
+  out.sender_id = feedback.sender_id().to_string();
+  for (const auto& arrival : feedback.arrivals()) {
+    out.arrivals.push_back({arrival.sequence_number(), arrival.arrival_ns(), arrival.bytes()});
+  }
+  return out;
+}
+
 wire::CompressedVideo ToFoxgloveVideo(const StereoVideoFrame& frame, Eye eye) {
   wire::CompressedVideo out;
   out.timestamp(ToIdl(frame.stamp));

@@ -39,6 +39,7 @@ using SonarRing = mostar_msgs::msg::dds_::SonarRing_;
 using BumperState = mostar_msgs::msg::dds_::BumperState_;
 using StereoVideoFrame = mostar_msgs::msg::dds_::StereoVideoFrame_;
 using KeyframeRequest = mostar_msgs::msg::dds_::KeyframeRequest_;
+using VideoFeedback = mostar_msgs::msg::dds_::VideoFeedback_;
 using CompressedVideo = foxglove_msgs::msg::dds_::CompressedVideo_;
 }  // namespace wire
 
@@ -99,6 +100,10 @@ StereoVideoFrame FromIdl(const wire::StereoVideoFrame& frame);
 
 wire::KeyframeRequest ToIdl(const KeyframeRequest& request);
 KeyframeRequest FromIdl(const wire::KeyframeRequest& request);
+
+// Keeps the first VideoFeedback::kMaxArrivals arrivals.
+wire::VideoFeedback ToIdl(const VideoFeedback& feedback);
+VideoFeedback FromIdl(const wire::VideoFeedback& feedback);
 
 // One eye of `frame` as foxglove_msgs/CompressedVideo (frame_id "camera_left" or
 // "camera_right", format "h264", the capture stamp).

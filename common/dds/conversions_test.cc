@@ -379,6 +379,23 @@ TEST(ConversionsTest, KeyframeRequestRoundTripCutsLongStrings) {
   EXPECT_EQ(back.reason, "gap");
 }
 
+TEST(ConversionsTest, VideoFeedbackRoundTripKeepsAtMostItsBound) {
+  VideoFeedback feedback;
+  feedback.stamp = kStamp;
+  feedback.sender_id = "alice";
+  for (uint64_t n = 1; n <= 70; ++n) {
+    feedback.arrivals.push_back({n, static_cast<int64_t>(n) * 33'000'000 - 5, 1000 + uint32_t(n)});
+  }
+  const VideoFeedback back =
+      FromIdl(ThroughCdr<mostar_msgs::msg::dds_::VideoFeedback_PubSubType>(ToIdl(feedback)));
+  EXPECT_EQ(back.stamp, kStamp);
+  EXPECT_EQ(back.sender_id, "alice");
+  ASSERT_EQ(back.arrivals.size(), VideoFeedback::kMaxArrivals);
+  EXPECT_EQ(back.arrivals[9].sequence, 10u);
+  EXPECT_EQ(back.arrivals[9].arrival_ns, 330'000'000 - 5);
+  EXPECT_EQ(back.arrivals[9].bytes, 1010u);
+}
+
 TEST(ConversionsTest, FoxgloveVideoCarriesOneEye) {
   StereoVideoFrame frame;
   frame.stamp = kStamp;

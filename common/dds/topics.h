@@ -35,5 +35,8 @@ inline constexpr const char* kCameraStereoVideo = "rt/mostar/camera/stereo/h264"
 // KeyframeRequest_: a viewer asks for an IDR (default partition: any viewer may ask; the robot
 // acts on one per 300 ms).
 inline constexpr const char* kKeyframeRequest = "rt/mostar/keyframe_request";
+// VideoFeedback_: a viewer's receive times of the H.264 frames, for the robot's rate control
+// (default partition, like keyframe requests).
+inline constexpr const char* kVideoFeedback = "rt/mostar/video_feedback";
 
 }  // namespace mostar::dds::topics

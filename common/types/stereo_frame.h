@@ -57,6 +57,21 @@ struct KeyframeRequest {
   std::string reason;      // "join", "gap", "error"
 };
 
+// When a viewer received one StereoVideoFrame.
+struct VideoFrameArrival {
+  uint64_t sequence = 0;   // the frame's AU number
+  int64_t arrival_ns = 0;  // viewer's monotonic clock (only differences count)
+  uint32_t bytes = 0;      // both eyes
+};
+
+// A viewer's receive report for the robot's rate control.
+struct VideoFeedback {
+  Time stamp;                               // sender's clock
+  std::string sender_id;                    // a claim
+  std::vector<VideoFrameArrival> arrivals;  // increasing AU numbers, at most kMaxArrivals
+  static constexpr size_t kMaxArrivals = 64;
+};
+
 // The robot-side stages of one pair (robot clock), published on rt/mostar/camera/timing.
 struct FrameTiming {
   Time capture;

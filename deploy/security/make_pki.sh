@@ -72,8 +72,8 @@
 #             them to observers) and estop (observers' engagements, read in mostar.client.*,
 #             go to the robot under the relay's name; list that name as an OBSERVER in the
 #             robot's role table); never cmd_vel, control/request or clock/ping.
-#   Every viewer (pilot, observer, relay) also publishes keyframe_request in the default
-#   partition (asks for an H.264 IDR); the robot and the relay subscribe it.
+#   Every viewer (pilot, observer, relay) also publishes keyframe_request and video_feedback
+#   in the default partition (H.264 IDRs, rate control); the robot and the relay subscribe them.
 set -euo pipefail
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
@@ -291,9 +291,10 @@ openssl smime -sign -text -in governance.xml -out governance.p7s \
 # partition.
 sensors="rt/mostar/camera/* rt/mostar/scan rt/mostar/odom rt/mostar/sonar rt/mostar/sonar/* rt/mostar/bumpers rt/mostar/health rt/mostar/control/lease"
 privileged="rt/mostar/cmd_vel rt/mostar/estop rt/mostar/control/request rt/mostar/clock/ping"
-# Viewers' requests for an H.264 IDR: in the default partition, since the robot only rate-limits
-# them (one IDR per 300 ms) whoever asks.
-viewer_requests="rt/mostar/keyframe_request"
+# Viewers' requests for an H.264 IDR and their receive reports (rate control): in the default
+# partition, since the robot only rate-limits them (one IDR per 300 ms, a bounded table of
+# reports) whoever sends them.
+viewer_requests="rt/mostar/keyframe_request rt/mostar/video_feedback"
 topics_xml() { for t in "$@"; do printf '            <topic>%s</topic>\n' "$t"; done; }
 criteria() {  # publish|subscribe, "topics", partition ("" = the default partition)
   [ -n "$2" ] || return 0

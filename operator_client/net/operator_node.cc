@@ -103,6 +103,14 @@ std::unique_ptr<OperatorNode> OperatorNode::Create(dds::Participant* participant
                            "permissions (make_pki.sh --update-permissions)";
     node->keyframe_.reset();
   }
+  node->feedback_ = std::make_unique<decltype(node->feedback_)::element_type>(
+      p, topics::kVideoFeedback, dds::WriterQos(Stream::kControl));
+  if (!node->feedback_->ok()) {
+    MOSTAR_LOG(WARNING) << node->feedback_->error()
+                        << ": the robot's video rate control cannot hear this console; re-sign "
+                           "the permissions (make_pki.sh --update-permissions)";
+    node->feedback_.reset();
+  }
   // What the robot must know the sender of goes out in this client's own partition: under DDS
   // Security the permissions of this client's certificate allow no other
   // (common/identity/sender_partition.h).
@@ -144,6 +152,9 @@ bool OperatorNode::SendControlRequest(const ControlRequest& request) {
 }
 bool OperatorNode::SendKeyframeRequest(const KeyframeRequest& request) {
   return keyframe_ != nullptr && keyframe_->Write(dds::ToIdl(request));
+}
+bool OperatorNode::SendVideoFeedback(const VideoFeedback& feedback) {
+  return feedback_ != nullptr && feedback_->Write(dds::ToIdl(feedback));
 }
 bool OperatorNode::SendPing(const ClockProbe& probe) { return ping_->Write(dds::ToIdl(probe)); }
 

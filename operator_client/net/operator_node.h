@@ -58,6 +58,8 @@ class OperatorNode {
   // Asks the robot for an IDR; false when DDS refused it or the permissions did not allow the
   // writer (signed before the topic existed: a warning was logged at creation).
   bool SendKeyframeRequest(const KeyframeRequest& request);
+  // A receive report for the robot's rate control; false as SendKeyframeRequest.
+  bool SendVideoFeedback(const VideoFeedback& feedback);
 
   bool robot_seen() const { return scan_->matched() > 0 || health_->matched() > 0; }
   bool is_pilot() const { return command_ != nullptr; }
@@ -79,6 +81,7 @@ class OperatorNode {
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::FrameTiming_PubSubType>> timing_;
   std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>> video_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>> keyframe_;
+  std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::VideoFeedback_PubSubType>> feedback_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>> command_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::EmergencyStop_PubSubType>> estop_;
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ControlRequest_PubSubType>> request_;

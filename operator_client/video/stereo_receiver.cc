@@ -1,6 +1,7 @@
 #include "operator_client/video/stereo_receiver.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "common/h264/h264_decoder.h"
 #include "common/jpeg/jpeg_decoder.h"
@@ -123,9 +124,21 @@ void StereoReceiver::SetKeyframeRequester(KeyframeRequestFn request) {
   keyframe_request_ = std::move(request);
 }
 
+void StereoReceiver::SetFeedbackSender(FeedbackFn send) {
+  std::lock_guard<std::mutex> lock(request_mutex_);
+  feedback_ = std::move(send);
+}
+
 void StereoReceiver::PushVideo(const StereoVideoFrame& frame) {
   std::lock_guard<std::mutex> lock(mutex_);
   const size_t bytes = frame.left.size() + frame.right.size();
+  // Arrival on this machine's monotonic clock, before any check: the robot's rate control
+  // judges the link, whatever becomes of the frame here.
+  if (arrivals_.size() < 4 * VideoFeedback::kMaxArrivals &&
+      (arrivals_.empty() || frame.sequence > arrivals_.back().sequence)) {
+    arrivals_.push_back({frame.sequence, clock_->SteadyNow().time_since_epoch().count(),
+                         static_cast<uint32_t>(std::min<size_t>(bytes, UINT32_MAX))});
+  }
   ++stats_.video_frames;
   stats_.images += 2;
   stats_.bytes += bytes;
@@ -250,6 +263,22 @@ void StereoReceiver::DecodeLoop() {
         latest_ = std::move(*decoded);
       } else {
         ++stats_.video_skipped;
+      }
+      std::vector<VideoFrameArrival> report;
+      if (!arrivals_.empty() && (!last_feedback_ || now - *last_feedback_ >= kFeedbackPeriod ||
+                                 arrivals_.size() >= VideoFeedback::kMaxArrivals)) {
+        const size_t n = std::min(arrivals_.size(), VideoFeedback::kMaxArrivals);
+        report.assign(arrivals_.begin(), arrivals_.begin() + static_cast<std::ptrdiff_t>(n));
+        arrivals_.erase(arrivals_.begin(), arrivals_.begin() + static_cast<std::ptrdiff_t>(n));
+        last_feedback_ = now;
+      }
+      if (!report.empty()) {
+        lock.unlock();
+        {
+          std::lock_guard<std::mutex> request_lock(request_mutex_);
+          if (feedback_) feedback_(report);
+        }
+        lock.lock();
       }
       if (ask) {
         lock.unlock();

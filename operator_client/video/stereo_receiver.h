@@ -32,6 +32,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "common/time/rate_meter.h"
 #include "common/time/time.h"
@@ -125,6 +126,12 @@ class StereoReceiver {
   // or will start (set nullptr before what it uses goes away).
   using KeyframeRequestFn = std::function<void(uint64_t last_sequence, const std::string& reason)>;
   void SetKeyframeRequester(KeyframeRequestFn request);
+  // How the receiver reports arrivals to the robot's rate control: every kFeedbackPeriod while
+  // frames arrive (or when VideoFeedback::kMaxArrivals are pending), on the decoder thread,
+  // under the same rule as the keyframe requester (set nullptr before what it uses goes away).
+  using FeedbackFn = std::function<void(const std::vector<VideoFrameArrival>& arrivals)>;
+  void SetFeedbackSender(FeedbackFn send);
+  static constexpr Duration kFeedbackPeriod = std::chrono::milliseconds(50);
   static constexpr size_t kMaxQueuedVideoFrames = 30;
   static constexpr Duration kKeyframeReaskPeriod = std::chrono::milliseconds(200);
   // The size of one eye's images from the robot's CameraInfo; images that declare more are
@@ -159,8 +166,11 @@ class StereoReceiver {
   SteadyTime to_decode_received_;
   std::deque<std::pair<StereoVideoFrame, SteadyTime>> video_queue_;  // with arrival times
   bool video_overrun_ = false;  // frames were dropped from the queue: ask for an IDR
-  std::mutex request_mutex_;    // held while keyframe_request_ is set or called
+  std::mutex request_mutex_;    // held while keyframe_request_ or feedback_ is set or called
   KeyframeRequestFn keyframe_request_;
+  FeedbackFn feedback_;
+  std::vector<VideoFrameArrival> arrivals_;  // not yet reported (mutex_)
+  std::optional<SteadyTime> last_feedback_;  // decoder thread
   std::optional<DecodedStereoPair> latest_;
   ReceiverStats stats_;
   RateMeter pair_rate_;

@@ -171,6 +171,31 @@ TEST_F(StereoReceiverH264Test, ADamagedFrameIsNotShownAndAsksForAnIdr) {
   EXPECT_EQ(receiver_.Stats().pairs_decoded, 4u);
 }
 
+TEST_F(StereoReceiverH264Test, ArrivalsAreReportedForTheRobotsRateControl) {
+  std::mutex mutex;
+  std::vector<VideoFrameArrival> reported;
+  int reports = 0;
+  receiver_.SetFeedbackSender([&](const std::vector<VideoFrameArrival>& arrivals) {
+    std::lock_guard<std::mutex> lock(mutex);
+    reported.insert(reported.end(), arrivals.begin(), arrivals.end());
+    ++reports;
+  });
+  Push(source_.Next());  // the first is reported at once
+  for (int i = 0; i < 3; ++i) {
+    clock_.Advance(milliseconds(20));
+    Push(source_.Next());
+  }
+  clock_.Advance(milliseconds(50));
+  Push(source_.Next());
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_EQ(reports, 3);  // 0 ms, 60 ms (>= 50 ms), 110 ms
+  ASSERT_EQ(reported.size(), 5u);
+  for (size_t i = 0; i < reported.size(); ++i) EXPECT_EQ(reported[i].sequence, i + 1);
+  EXPECT_EQ(reported[1].arrival_ns - reported[0].arrival_ns, 20'000'000);
+  EXPECT_GT(reported[0].bytes, 0u);
+  receiver_.SetFeedbackSender(nullptr);
+}
+
 TEST_F(StereoReceiverH264Test, AnotherFormatIsRefused) {
   StereoVideoFrame frame = source_.Next(true);
   frame.format = "vp9";

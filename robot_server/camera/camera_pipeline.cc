@@ -236,16 +236,29 @@ void CameraPipeline::EncodeH264Loop() {
   double target = options_.bitrate.target_bits_per_s;
   H264StereoEncoder encoder(options_.h264, options_.frame_rate_hz, options_.parallel_compression);
   StereoVideoFrame out;
+  double class_target = -1;
   for (;;) {
     std::optional<StereoImagePair> pair = NextPair(&controller, &target);
     if (!pair) return;
     const SteadyTime start = clock_->SteadyNow();
+    const double configured = target > 0 ? target : options_.h264.unlimited_bits_per_s;
+    if (configured != class_target) {
+      class_target = configured;
+      rate_control_.SetClassTarget(class_target);
+    }
+    if (rate_control_.ShouldSkipFrame(start)) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++skipped_for_link_;
+      continue;
+    }
+    const double bits_per_s = std::min(class_target * options_.bitrate.headroom,
+                                       rate_control_.Target(class_target, start));
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (keyframes_.ShouldSendIdr(start)) encoder.ForceIdr();
     }
     std::string error;
-    const bool ok = encoder.Encode(*pair, target * options_.bitrate.headroom, &out, &error);
+    const bool ok = encoder.Encode(*pair, bits_per_s, &out, &error);
     if (!ok) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -257,7 +270,11 @@ void CameraPipeline::EncodeH264Loop() {
     out.encoded = clock_->Now();
     const Delivery delivery = deliver_video_ ? deliver_video_(out) : Delivery::kSkipped;
     const SteadyTime now = clock_->SteadyNow();
-    controller.OnPairEncoded(now, out.left.size() + out.right.size(), delivery == Delivery::kSent);
+    const size_t bytes = out.left.size() + out.right.size();
+    controller.OnPairEncoded(now, bytes, delivery == Delivery::kSent);
+    if (delivery == Delivery::kSent) {
+      rate_control_.OnFrameSent(out.sequence, now, static_cast<uint32_t>(bytes));
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     if (out.idr) {
       keyframes_.OnIdrSent(start);
@@ -337,6 +354,11 @@ DeviceHealth CameraPipeline::Health() const {
     health.counters.emplace_back("keyframe_requests", keyframes.requests);
     health.counters.emplace_back("keyframe_requests_deferred", keyframes.deferred);
     health.counters.emplace_back("h264_encoder_restarts", h264_restarts_);
+    const VideoRateStats link = rate_control_.Stats(clock_->SteadyNow());
+    health.counters.emplace_back("link_viewers", static_cast<uint64_t>(link.viewers));
+    health.counters.emplace_back("link_target_bps", rounded(link.target_bits_per_s));
+    health.counters.emplace_back("link_queue_ms", rounded(link.queue_ms));
+    health.counters.emplace_back("skipped_for_link", skipped_for_link_);
   }
   health.counters.insert(health.counters.end(), camera_counters_.begin(), camera_counters_.end());
   return health;
@@ -350,6 +372,11 @@ BitrateStats CameraPipeline::bitrate_stats() const {
 void CameraPipeline::SetTargetBitsPerSecond(double bits_per_s) {
   std::lock_guard<std::mutex> lock(mutex_);
   pending_target_bits_per_s_ = std::max(0.0, bits_per_s);
+}
+
+void CameraPipeline::OnVideoFeedback(const VideoFeedback& feedback) {
+  if (options_.codec != VideoCodec::kH264) return;
+  rate_control_.OnFeedback(feedback, clock_->SteadyNow());
 }
 
 void CameraPipeline::RequestKeyframe() {

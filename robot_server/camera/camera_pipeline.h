@@ -11,8 +11,10 @@
 // network (Stop() waits for the current Grab(), at most `grab_timeout`).
 //
 // With codec kH264 the compression thread encodes both eyes into two H.264 streams
-// (H264StereoEncoder) at the target bitrate x headroom (the configured class; unlimited: the
-// H.264 options' rate) and hands each StereoVideoFrame to the video delivery callback instead.
+// (H264StereoEncoder) and hands each StereoVideoFrame to the video delivery callback instead.
+// Its target: the configured class x headroom (unlimited: the H.264 options' rate), lowered to
+// what the viewers' links carry (VideoRateControl, from their receive reports, OnVideoFeedback);
+// a frame that would only queue behind a drop in capacity is skipped at the source.
 // Every pair taken from the slot is encoded: the streams are predictive, so a pair the
 // transport skips shows as a gap to viewers, who then ask for an IDR (RequestKeyframe, at most
 // one IDR per 300 ms: KeyframeRequestLimiter).
@@ -38,6 +40,7 @@
 #include "robot_server/camera/jpeg_compressor.h"
 #include "robot_server/camera/keyframe_request_limiter.h"
 #include "robot_server/camera/stereo_camera.h"
+#include "robot_server/camera/video_rate_control.h"
 
 namespace mostar::camera {
 
@@ -93,7 +96,8 @@ class CameraPipeline {
   // pairs_skipped_at_source, slot_drops, divided (not encoded: frame-rate divisor), timeouts,
   // device_lost, reopen_attempts, open_failures, encode_errors, jpeg_quality,
   // jpeg_scale_percent, frame_rate_divisor, bitrate_bps, target_bitrate_bps; with H.264 also
-  // h264_idrs, keyframe_requests, keyframe_requests_deferred, h264_encoder_restarts; then the
+  // h264_idrs, keyframe_requests, keyframe_requests_deferred, h264_encoder_restarts,
+  // link_viewers, link_target_bps, link_queue_ms, skipped_for_link; then the
   // camera's own StereoCamera::Counters(); rate_hz is the delivered pair rate.
   DeviceHealth Health() const;
   BitrateStats bitrate_stats() const;
@@ -102,6 +106,8 @@ class CameraPipeline {
   void SetTargetBitsPerSecond(double bits_per_s);
   // Applies a configured class; false (unchanged) when the name is unknown.
   bool SetBitrateClass(const std::string& name);
+  // A viewer's receive report (any thread; H.264 only, ignored with JPEG).
+  void OnVideoFeedback(const VideoFeedback& feedback);
   // A viewer asked for an IDR (any thread; H.264 only, ignored with JPEG): the next pair is one,
   // at most one per 300 ms (KeyframeRequestLimiter).
   void RequestKeyframe();
@@ -149,6 +155,8 @@ class CameraPipeline {
   KeyframeRequestLimiter keyframes_;
   uint64_t h264_idrs_ = 0;
   uint64_t h264_restarts_ = 0;
+  uint64_t skipped_for_link_ = 0;
+  mutable VideoRateControl rate_control_;  // thread-safe itself (its lock is taken after mutex_)
   std::vector<std::pair<std::string, uint64_t>> camera_counters_;
   mutable RateMeter delivered_rate_;
 };

@@ -194,6 +194,18 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
                            "--update-permissions";
     node->keyframe_requests_reader_.reset();
   }
+  node->feedback_reader_ = std::make_unique<FeedbackReader>(
+      p, topics::kVideoFeedback, dds::ReaderQos(Stream::kControl), dds::kWithWriter,
+      [self](const dds::wire::VideoFeedback& f, const dds::WriterId&) {
+        if (self->callbacks_.on_video_feedback) self->callbacks_.on_video_feedback(dds::FromIdl(f));
+      });
+  if (!node->feedback_reader_->ok()) {
+    MOSTAR_LOG(WARNING) << node->feedback_reader_->error()
+                        << ": viewers' receive reports are not heard (the H.264 rate stays at "
+                           "the class target); re-sign the permissions: make_pki.sh "
+                           "--update-permissions";
+    node->feedback_reader_.reset();
+  }
   for (const VideoLane& lane : node->lanes_) {
     if (!Check(lane.left, error) || !Check(lane.right, error)) return nullptr;
   }

@@ -82,6 +82,8 @@ class RobotNode final : public RobotLink {
     // A viewer asked for an IDR (KeyframeRequest_), or a new reader matched the H.264 stream
     // (reason "join"): the camera pipeline decides when (at most one IDR per 300 ms).
     std::function<void(const KeyframeRequest&)> on_keyframe_request;
+    // A viewer's receive report of the H.264 frames (VideoFeedback_), for the rate control.
+    std::function<void(const VideoFeedback&)> on_video_feedback;
   };
 
   using VideoOptions = RobotVideoOptions;
@@ -244,6 +246,8 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<dds::Writer<foxglove_msgs::msg::dds_::CompressedVideo_PubSubType>> right_video_;
   using KeyframeReader = dds::Reader<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>;
   std::unique_ptr<KeyframeReader> keyframe_requests_reader_;  // null: permissions refused it
+  using FeedbackReader = dds::Reader<mostar_msgs::msg::dds_::VideoFeedback_PubSubType>;
+  std::unique_ptr<FeedbackReader> feedback_reader_;  // null: permissions refused it
   std::atomic<uint64_t> keyframe_requests_{0};
   std::atomic<uint64_t> video_frames_sent_{0};
   std::vector<std::unique_ptr<SenderReaders>> senders_;

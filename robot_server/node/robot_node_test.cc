@@ -271,6 +271,11 @@ TEST(RobotNodeTest, TheH264StreamReachesViewersAndKeyframeRequestsReachTheCamera
     std::lock_guard<std::mutex> lock(mutex);
     requests.push_back(request.reason);
   };
+  std::vector<VideoFeedback> reports;
+  callbacks.on_video_feedback = [&](const VideoFeedback& feedback) {
+    std::lock_guard<std::mutex> lock(mutex);
+    reports.push_back(feedback);
+  };
   std::string error;
   auto node = RobotNode::Create(robot.get(), {}, callbacks, &SystemClock::Instance(), &error);
   ASSERT_NE(node, nullptr) << error;
@@ -308,6 +313,13 @@ TEST(RobotNodeTest, TheH264StreamReachesViewersAndKeyframeRequestsReachTheCamera
   }
   ASSERT_TRUE(request_writer.Write(
       dds::ToIdl(KeyframeRequest{SystemClock::Instance().Now(), "observer", 7, "gap"})));
+  dds::Writer<mostar_msgs::msg::dds_::VideoFeedback_PubSubType> feedback_writer(
+      *viewer, dds::topics::kVideoFeedback, dds::WriterQos(dds::Stream::kControl));
+  for (int i = 0; i < 200 && feedback_writer.matched() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(feedback_writer.Write(
+      dds::ToIdl(VideoFeedback{SystemClock::Instance().Now(), "observer", {{1, 5, 3000}}})));
   for (uint64_t n = 1; n <= 3; ++n) {
     StereoVideoFrame frame;
     frame.sequence = n;
@@ -319,7 +331,8 @@ TEST(RobotNodeTest, TheH264StreamReachesViewersAndKeyframeRequestsReachTheCamera
     frame.right.assign(1000, static_cast<uint8_t>(n));
     ASSERT_TRUE(node->PublishStereoVideo(frame));
   }
-  for (int i = 0; i < 200 && (count(frames) < 3 || count(foxglove) < 3 || count(requests) < 3);
+  for (int i = 0; i < 200 && (count(frames) < 3 || count(foxglove) < 3 || count(requests) < 3 ||
+                              count(reports) < 1);
        ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
@@ -336,6 +349,10 @@ TEST(RobotNodeTest, TheH264StreamReachesViewersAndKeyframeRequestsReachTheCamera
   EXPECT_EQ(requests[2], "gap");
   EXPECT_EQ(node->keyframe_requests(), 1u);
   EXPECT_EQ(node->video_frames_sent(), 3u);
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].sender_id, "observer");
+  ASSERT_EQ(reports[0].arrivals.size(), 1u);
+  EXPECT_EQ(reports[0].arrivals[0].bytes, 3000u);
 }
 
 TEST(RobotNodeTest, RejectsAnInvalidVideoWindow) {

@@ -1,0 +1,184 @@
+#include "robot_server/camera/link_rate_controller.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mostar::camera {
+
+namespace {
+constexpr int64_t kThroughputWindowNs = 500'000'000;
+constexpr double kMinFramesForLoss = 20;
+}  // namespace
+
+bool LinkRateOptions::IsValid(std::string* error) const {
+  if (!(min_bits_per_s > 0) || !(max_bits_per_s >= min_bits_per_s)) {
+    *error = "link rate: need 0 < min_bits_per_s <= max_bits_per_s";
+    return false;
+  }
+  if (!(start_fraction > 0 && start_fraction <= 1) || !(increase_per_s > 1) ||
+      !(backoff > 0 && backoff < 1)) {
+    *error = "link rate: start_fraction in (0, 1], increase_per_s > 1, backoff in (0, 1)";
+    return false;
+  }
+  if (!(near_increase_per_s > 1) || near_increase_per_s > increase_per_s) {
+    *error = "link rate: need 1 < near_increase_per_s <= increase_per_s";
+    return false;
+  }
+  if (!(normal_queue_ms >= 0) || !(overuse_queue_ms > normal_queue_ms) ||
+      !(skip_queue_ms >= overuse_queue_ms)) {
+    *error = "link rate: need 0 <= normal_queue_ms < overuse_queue_ms <= skip_queue_ms";
+    return false;
+  }
+  if (decrease_interval <= Duration::zero() || capacity_memory <= Duration::zero() ||
+      base_window <= Duration::zero()) {
+    *error = "link rate: intervals must be positive";
+    return false;
+  }
+  return true;
+}
+
+const char* LinkUsageName(LinkUsage usage) {
+  switch (usage) {
+    case LinkUsage::kNormal:
+      return "normal";
+    case LinkUsage::kOverusing:
+      return "overusing";
+    case LinkUsage::kQueueing:
+      return "queueing";
+  }
+  return "?";
+}
+
+LinkRateController::LinkRateController(const LinkRateOptions& options) : options_(options) {
+  stats_.target_bits_per_s =
+      std::max(options_.min_bits_per_s, options_.max_bits_per_s * options_.start_fraction);
+}
+
+void LinkRateController::SetMaxBitsPerSecond(double bits_per_s) {
+  if (bits_per_s > 0) options_.max_bits_per_s = std::max(bits_per_s, options_.min_bits_per_s);
+  stats_.target_bits_per_s = std::min(stats_.target_bits_per_s, options_.max_bits_per_s);
+}
+
+void SentFrames::Add(uint64_t sequence, SteadyTime sent, uint32_t bytes) {
+  if (!frames_.empty() && sequence <= std::get<0>(frames_.back())) frames_.clear();  // restart
+  frames_.emplace_back(sequence, sent, bytes);
+  while (frames_.size() > capacity_) frames_.pop_front();
+}
+
+std::optional<SteadyTime> SentFrames::SendTime(uint64_t sequence) const {
+  if (frames_.empty() || sequence < std::get<0>(frames_.front())) return std::nullopt;
+  const auto it =
+      std::lower_bound(frames_.begin(), frames_.end(), sequence,
+                       [](const auto& frame, uint64_t s) { return std::get<0>(frame) < s; });
+  if (it == frames_.end() || std::get<0>(*it) != sequence) return std::nullopt;
+  return std::get<1>(*it);
+}
+
+uint64_t SentFrames::BitsAfter(uint64_t sequence) const {
+  uint64_t bits = 0;
+  for (auto it = frames_.rbegin(); it != frames_.rend() && std::get<0>(*it) > sequence; ++it) {
+    bits += uint64_t{std::get<2>(*it)} * 8;
+  }
+  return bits;
+}
+
+double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
+                                      const SentFrames& sent, SteadyTime now) {
+  for (const FrameArrival& arrival : arrivals) {
+    if (last_sequence_ && arrival.sequence <= *last_sequence_) continue;
+    if (const std::optional<SteadyTime> at = sent.SendTime(arrival.sequence)) {
+      OnArrival(arrival, *at);
+      last_sent_ = *at;
+    }
+    ++reported_;
+    if (last_sequence_) expected_ += arrival.sequence - *last_sequence_;
+    last_sequence_ = arrival.sequence;
+  }
+  stats_.predicted_queue_ms = PredictedQueueMs(sent, now);
+  const double q = stats_.predicted_queue_ms;
+  stats_.usage = q > options_.overuse_queue_ms  ? LinkUsage::kOverusing
+                 : q < options_.normal_queue_ms ? LinkUsage::kNormal
+                                                : LinkUsage::kQueueing;
+  UpdateRate(now);
+  return stats_.target_bits_per_s;
+}
+
+double LinkRateController::PredictedQueueMs(const SentFrames& sent, SteadyTime now) const {
+  const double rate = RecentThroughput();
+  if (!last_sequence_ || !last_sent_ || rate <= 0) return stats_.queue_delay_ms;
+  const double added_ms = static_cast<double>(sent.BitsAfter(*last_sequence_)) / rate * 1e3;
+  const double passed_ms = ToSeconds(now - *last_sent_) * 1e3;
+  return std::max(0.0, stats_.queue_delay_ms + added_ms - passed_ms);
+}
+
+void LinkRateController::OnArrival(const FrameArrival& arrival, SteadyTime sent) {
+  const int64_t send_ns = sent.time_since_epoch().count();
+  received_.emplace_back(arrival.arrival_ns, arrival.bytes);
+  while (!received_.empty() && arrival.arrival_ns - received_.front().first > kThroughputWindowNs) {
+    received_.pop_front();
+  }
+  // The delay of the frame's first byte: less its own transmission time at the rate the link
+  // delivered lately, so that bigger frames at a higher rate do not read as queueing.
+  const double rate = received_.size() >= 2 ? RecentThroughput() : 0;
+  const double transmission_ms = rate > 0 ? arrival.bytes * 8.0 / rate * 1e3 : 0;
+  const double delay_ms = static_cast<double>(arrival.arrival_ns - send_ns) / 1e6 - transmission_ms;
+  const int64_t window_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(options_.base_window).count();
+  while (!base_delays_.empty() && base_delays_.back().second >= delay_ms) base_delays_.pop_back();
+  base_delays_.emplace_back(arrival.arrival_ns, delay_ms);
+  while (arrival.arrival_ns - base_delays_.front().first > window_ns) base_delays_.pop_front();
+  stats_.queue_delay_ms = delay_ms - base_delays_.front().second;
+}
+
+double LinkRateController::RecentThroughput() const {
+  if (received_.size() < 2) return 0;
+  const double span_s = static_cast<double>(received_.back().first - received_.front().first) / 1e9;
+  uint64_t bytes = 0;
+  for (size_t i = 1; i < received_.size(); ++i) bytes += received_[i].second;
+  return span_s >= 0.2 ? static_cast<double>(bytes) * 8 / span_s : 0;
+}
+
+void LinkRateController::UpdateRate(SteadyTime now) {
+  // Throughput over the window the arrivals span (the viewer's clock).
+  const double throughput = RecentThroughput();
+  stats_.throughput_bits_per_s = throughput;
+  if (static_cast<double>(expected_) >= kMinFramesForLoss) {
+    stats_.loss_fraction =
+        std::clamp(1.0 - static_cast<double>(reported_) / static_cast<double>(expected_), 0.0, 1.0);
+    reported_ = 0;
+    expected_ = 0;
+  }
+  const double dt_s = last_update_ ? std::min(ToSeconds(now - *last_update_), 1.0) : 0.0;
+  last_update_ = now;
+  double& target = stats_.target_bits_per_s;
+  if (stats_.usage == LinkUsage::kOverusing) {
+    ++stats_.overuse_reports;
+    // Below the capacity, by enough to drain the queue within about half a second.
+    const double drain = std::clamp(1.0 - stats_.predicted_queue_ms / 500.0, 0.25, 1.0);
+    const double lower = options_.backoff * throughput * drain;
+    if (throughput > 0 && (!last_decrease_ || now - *last_decrease_ >= options_.decrease_interval ||
+                           lower < 0.7 * target)) {
+      target = std::min(target, lower);
+      capacity_bits_per_s_ = throughput;
+      last_decrease_ = now;
+      ++stats_.decreases;
+    }
+  } else if (stats_.usage == LinkUsage::kNormal && dt_s > 0) {
+    // Near the capacity seen at a recent decrease, probe gently; once no decrease came for
+    // `capacity_memory` the link may have grown: probe fast.
+    const bool near_capacity = capacity_bits_per_s_ > 0 && last_decrease_ &&
+                               now - *last_decrease_ < options_.capacity_memory &&
+                               target > 0.5 * capacity_bits_per_s_ &&
+                               target < 1.5 * capacity_bits_per_s_;
+    target *=
+        std::pow(near_capacity ? options_.near_increase_per_s : options_.increase_per_s, dt_s);
+    if (throughput > 0) target = std::min(target, 1.5 * throughput + 10e3);
+  }
+  if (stats_.loss_fraction > 0.10) {
+    target *= 1 - 0.5 * stats_.loss_fraction;
+    stats_.loss_fraction = 0;  // once per measurement
+  }
+  target = std::clamp(target, options_.min_bits_per_s, options_.max_bits_per_s);
+}
+
+}  // namespace mostar::camera

@@ -1,0 +1,138 @@
+// The H.264 target bitrate that one viewer's link carries, from what the viewer reports (in the
+// spirit of WebRTC's Google Congestion Control, draft-ietf-rmcat-gcc-02 and libwebrtc goog_cc;
+// constants from ../shared/reference/video-notes.md section 4).
+//
+// Inputs: when the robot wrote each frame and how big it was (OnFrameSent, robot's monotonic
+// clock) and when the viewer received it (OnFeedback: FrameArrival on the viewer's clock; only
+// differences of arrival times are used, so the two clocks need no common origin).
+//
+// Delay-based part: the one-way delay of each frame, (arrival - send), against its minimum over
+// the last `base_window` (the path without queueing, whatever the clocks' offset; the window
+// follows clock drift; each frame's own transmission time at the delivery rate taken off) gives
+// the queueing delay q of the last frame reported. Its report comes a round trip late, so the
+// decision uses q plus what the frames written since then add: their bits at the delivery rate,
+// less the time that passed. Above `overuse_queue_ms` is over-use, below `normal_queue_ms`
+// normal, between them hold; above `skip_queue_ms` frames are skipped at the source. (GCC fits a
+// trendline to the delay variation of 5 ms packet groups; with one point per frame at 30 Hz its
+// 20-point window spans 0.7 s and, with its adaptive threshold, let a simulated 8 Mbit/s link queue
+// for seconds: see link_rate_controller_test.cc. The queueing delay itself answers within a report
+// period.) Rate (AIMD): over-use -> 0.85 x the throughput the viewer measured over the last 500 ms,
+// less what drains the queue in a second (at most once per `decrease_interval`); hold; normal ->
+// increase, by `near_increase_per_s` per second near the capacity seen at a decrease in the last
+// `capacity_memory`, by `increase_per_s` otherwise (libwebrtc's 8 %/s is slower than a robot's
+// uplink changes: a step 2 -> 8 Mbit/s must be followed within seconds); never above 1.5 x
+// throughput + 10 kbit/s (an encoder that produces less than its target does not make the
+// estimate run away).
+// Loss-based part: frames missing from the reports (AU numbers skipped) above 10 % cut the
+// target by half the loss fraction; below 2 % they do not hold it back.
+// Not thread-safe: VideoRateControl serialises.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "common/time/time.h"
+#include "common/types/stereo_frame.h"
+
+namespace mostar::camera {
+
+// One frame as a viewer received it (AU number, arrival on the viewer's clock, bytes).
+using FrameArrival = VideoFrameArrival;
+
+struct LinkRateOptions {
+  double min_bits_per_s = 300e3;
+  double max_bits_per_s = 8e6;        // the configured class target; SetMaxBitsPerSecond changes it
+  double start_fraction = 0.5;        // of max, before any feedback
+  double increase_per_s = 2.0;        // increase factor per second, away from the capacity
+  double near_increase_per_s = 1.15;  // ... within capacity_memory of a decrease, below 1.5 x it
+  double backoff = 0.85;              // x throughput on over-use
+  Duration decrease_interval = std::chrono::milliseconds(300);
+  Duration capacity_memory = std::chrono::seconds(1);
+  double overuse_queue_ms = 40;  // queueing delay that means over-use
+  double normal_queue_ms = 20;   // below it the rate may grow
+  double skip_queue_ms = 150;    // frames are skipped at the source above it
+  Duration base_window = std::chrono::seconds(10);
+  bool IsValid(std::string* error) const;
+};
+
+// kNormal: q below normal_queue_ms; kQueueing: between (hold); kOverusing: above overuse_queue_ms.
+enum class LinkUsage { kNormal, kQueueing, kOverusing };
+const char* LinkUsageName(LinkUsage usage);
+
+struct LinkRateStats {
+  double target_bits_per_s = 0;
+  double throughput_bits_per_s = 0;  // received, last 500 ms (0 until measured)
+  double queue_delay_ms = 0;         // last frame reported: one-way delay above its minimum
+  double predicted_queue_ms = 0;     // for a frame written now (decisions use it)
+  double loss_fraction = 0;          // of the frames the last reports should have held
+  LinkUsage usage = LinkUsage::kNormal;
+  uint64_t overuse_reports = 0;
+  uint64_t decreases = 0;
+};
+
+// The robot's record of the frames it wrote: AU number -> (send time, bytes), the newest
+// `capacity`. Not thread-safe.
+class SentFrames {
+ public:
+  explicit SentFrames(size_t capacity = 600) : capacity_(capacity) {}
+  void Add(uint64_t sequence, SteadyTime sent, uint32_t bytes);
+  std::optional<SteadyTime> SendTime(uint64_t sequence) const;
+  // Bits of the frames written after `sequence`.
+  uint64_t BitsAfter(uint64_t sequence) const;
+
+ private:
+  const size_t capacity_;
+  std::deque<std::tuple<uint64_t, SteadyTime, uint32_t>> frames_;  // increasing AU numbers
+};
+
+class LinkRateController {
+ public:
+  explicit LinkRateController(const LinkRateOptions& options = {});
+
+  // The class target changed (0: unlimited, the options' max stays).
+  void SetMaxBitsPerSecond(double bits_per_s);
+  // A viewer's report. `sent` has the robot's send time and size of the frames (frames it no
+  // longer has count for loss only). Arrivals must be in increasing AU order within and across
+  // reports (older ones are ignored). `now`: the robot's monotonic time, the clock of `sent`.
+  // Returns the new target, bit/s.
+  double OnFeedback(const std::vector<FrameArrival>& arrivals, const SentFrames& sent,
+                    SteadyTime now);
+  const LinkRateStats& stats() const { return stats_; }
+  // Whether the encoder should skip the frame it would write at `now`: the queue it would meet
+  // is over `skip_queue_ms` (after a drop in capacity the frames already queued are late
+  // enough; more would only wait behind them).
+  bool ShouldSkipFrame(const SentFrames& sent, SteadyTime now) const {
+    return PredictedQueueMs(sent, now) > options_.skip_queue_ms;
+  }
+
+ private:
+  void OnArrival(const FrameArrival& arrival, SteadyTime sent);
+  // The queueing delay a frame written at `now` meets: the last one seen, plus what the frames
+  // written since then add (their bits at the delivery rate) less the time that passed.
+  double PredictedQueueMs(const SentFrames& sent, SteadyTime now) const;
+  void UpdateRate(SteadyTime now);
+  // Bits per second the viewer received over the last 500 ms of arrivals; 0 below 200 ms.
+  double RecentThroughput() const;
+
+  LinkRateOptions options_;
+  LinkRateStats stats_;
+  // One-way delays (arrival ns, delay ms), a monotonic deque: its front is the window's minimum.
+  std::deque<std::pair<int64_t, double>> base_delays_;
+  // Throughput (viewer clock) and loss.
+  std::deque<std::pair<int64_t, uint32_t>> received_;  // (arrival ns, bytes), last 500 ms
+  std::optional<uint64_t> last_sequence_;
+  std::optional<SteadyTime> last_sent_;  // send time of the last frame reported
+  uint64_t reported_ = 0;
+  uint64_t expected_ = 0;
+  // Rate.
+  std::optional<SteadyTime> last_update_;
+  std::optional<SteadyTime> last_decrease_;
+  double capacity_bits_per_s_ = 0;  // throughput at the last decrease; 0 = unknown
+};
+
+}  // namespace mostar::camera

@@ -1,0 +1,227 @@
+#include "robot_server/camera/link_rate_controller.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <vector>
+
+namespace mostar::camera {
+namespace {
+
+// A bottleneck link: a FIFO drained at the capacity of the moment, then a fixed one-way delay.
+// The encoder makes every frame exactly target / fps bits (the VBV keeps it close).
+struct LinkSimulation {
+  std::function<double(double)> capacity_bps;  // of the time, s
+  double one_way_s = 0.05;
+  double fps = 30;
+  double feedback_period_s = 0.1;
+  int skipped = 0;  // frames the controller had skipped at the source
+
+  struct Sample {
+    double t = 0;              // send time, s
+    double target = 0;         // bit/s when the frame was sent
+    double queue_delay_s = 0;  // arrival - send - one way
+  };
+  std::vector<Sample> Run(LinkRateController* controller, double duration_s) {
+    std::vector<Sample> samples;
+    SentFrames sent;
+    std::vector<FrameArrival> pending;                       // arrived, not yet reported
+    std::vector<std::pair<double, FrameArrival>> in_flight;  // (arrival time s, frame)
+    double link_free_s = 0;
+    double next_feedback_s = feedback_period_s;
+    uint64_t sequence = 0;
+    const SteadyTime origin = SteadyTime{} + std::chrono::seconds(100);
+    for (double t = 0; t < duration_s; t += 1 / fps) {
+      // Reports that reached the robot by now (sent one way earlier).
+      while (next_feedback_s + one_way_s <= t) {
+        std::vector<FrameArrival> report;
+        for (auto it = in_flight.begin(); it != in_flight.end();) {
+          if (it->first <= next_feedback_s) {
+            report.push_back(it->second);
+            it = in_flight.erase(it);
+          } else {
+            ++it;
+          }
+        }
+        controller->OnFeedback(report, sent, origin + FromSeconds(next_feedback_s + one_way_s));
+        next_feedback_s += feedback_period_s;
+      }
+      const double target = controller->stats().target_bits_per_s;
+      if (controller->ShouldSkipFrame(sent, origin + FromSeconds(t))) {
+        ++skipped;
+        continue;
+      }
+      const double bits = target / fps;
+      // Drain at the capacity of the moment (piecewise: good enough at 1 ms steps).
+      double start = std::max(t, link_free_s);
+      double left = bits;
+      double end = start;
+      while (left > 0) {
+        const double step = 0.001;
+        const double can = capacity_bps(end) * step;
+        if (can >= left) {
+          end += step * left / can;
+          left = 0;
+        } else {
+          left -= can;
+          end += step;
+        }
+      }
+      link_free_s = end;
+      const double arrival = end + one_way_s;
+      ++sequence;
+      sent.Add(sequence, origin + FromSeconds(t), static_cast<uint32_t>(bits / 8));
+      FrameArrival frame;
+      frame.sequence = sequence;
+      frame.arrival_ns = static_cast<int64_t>(arrival * 1e9) + 777'000'000;  // another clock
+      frame.bytes = static_cast<uint32_t>(bits / 8);
+      in_flight.emplace_back(arrival, frame);
+      samples.push_back({t, target, arrival - t - one_way_s - bits / capacity_bps(t)});
+      if (std::getenv("LINK_TRACE") != nullptr && sequence % 3 == 0) {
+        const LinkRateStats& st = controller->stats();
+        std::printf(
+            "t=%.2f target=%.2f thr=%.2f q=%.0fms seen=%.1fms pred=%.1fms usage=%s dec=%lu\n", t,
+            target / 1e6, st.throughput_bits_per_s / 1e6, samples.back().queue_delay_s * 1e3,
+            st.queue_delay_ms, st.predicted_queue_ms, LinkUsageName(st.usage),
+            static_cast<unsigned long>(st.decreases));
+      }
+    }
+    return samples;
+  }
+};
+
+double MeanTarget(const std::vector<LinkSimulation::Sample>& samples, double from, double to) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& s : samples) {
+    if (s.t >= from && s.t < to) {
+      sum += s.target;
+      ++n;
+    }
+  }
+  return n > 0 ? sum / n : 0;
+}
+
+// Seconds in [from, to) during which the queueing delay exceeded `limit_s`.
+double TimeAbove(const std::vector<LinkSimulation::Sample>& samples, double from, double to,
+                 double limit_s) {
+  double seconds = 0;
+  for (const auto& s : samples) {
+    if (s.t >= from && s.t < to && s.queue_delay_s > limit_s) seconds += 1.0 / 30;
+  }
+  return seconds;
+}
+
+// First time at or after `from` when the target reached `level`; -1 if never.
+double FirstReach(const std::vector<LinkSimulation::Sample>& samples, double from, double level,
+                  bool below) {
+  for (const auto& s : samples) {
+    if (s.t >= from && (below ? s.target <= level : s.target >= level)) return s.t - from;
+  }
+  return -1;
+}
+
+TEST(LinkRateControllerTest, FillsASteadyLinkWithoutQueueing) {
+  LinkRateOptions options;
+  options.max_bits_per_s = 16e6;
+  LinkRateController controller(options);
+  LinkSimulation link;
+  link.capacity_bps = [](double) { return 8e6; };
+  const auto samples = link.Run(&controller, 15);
+  EXPECT_GE(MeanTarget(samples, 5, 15), 0.7 * 8e6);
+  EXPECT_LE(MeanTarget(samples, 5, 15), 8e6);
+  EXPECT_LE(TimeAbove(samples, 3, 15, 0.150), 0.5);
+  EXPECT_GT(controller.stats().decreases, 0u);
+  EXPECT_LE(link.skipped, 15) << "frames skipped at the source";
+  std::printf(
+      "steady 8 Mbit/s: mean %.2f Mbit/s (5-15 s), queueing > 150 ms for %.2f s, %d "
+      "frames skipped\n",
+      MeanTarget(samples, 5, 15) / 1e6, TimeAbove(samples, 3, 15, 0.150), link.skipped);
+}
+
+TEST(LinkRateControllerTest, FollowsAStepDownAndBackUp) {
+  LinkRateOptions options;
+  options.max_bits_per_s = 16e6;
+  LinkRateController controller(options);
+  LinkSimulation link;
+  link.capacity_bps = [](double t) { return t >= 10 && t < 20 ? 2e6 : 8e6; };
+  const auto samples = link.Run(&controller, 30);
+  const double down = FirstReach(samples, 10, 2e6, /*below=*/true);
+  ASSERT_GE(down, 0);
+  EXPECT_LE(down, 2.0) << "8 -> 2 Mbit/s within 2 s";
+  // The age goal: queueing beyond one-way + 150 ms for at most 1 s after the step.
+  EXPECT_LE(TimeAbove(samples, 10, 20, 0.150), 1.0);
+  EXPECT_GE(MeanTarget(samples, 13, 20), 0.7 * 2e6);
+  const double up = FirstReach(samples, 20, 0.7 * 8e6, /*below=*/false);
+  ASSERT_GE(up, 0);
+  EXPECT_LE(up, 2.0) << "2 -> 70 % of 8 Mbit/s within 2 s";
+  EXPECT_GE(MeanTarget(samples, 24, 30), 0.7 * 8e6);
+  EXPECT_LE(link.skipped, 45) << "frames skipped at the source";
+  std::printf(
+      "step 8->2: target <= 2 Mbit/s after %.2f s, queueing > 150 ms for %.2f s, mean "
+      "%.2f Mbit/s (13-20 s); step 2->8: 70 %% after %.2f s, mean %.2f Mbit/s (24-30 s); "
+      "%d frames skipped\n",
+      down, TimeAbove(samples, 10, 20, 0.150), MeanTarget(samples, 13, 20) / 1e6, up,
+      MeanTarget(samples, 24, 30) / 1e6, link.skipped);
+}
+
+TEST(LinkRateControllerTest, NeverAboveTheClassTargetNorBelowTheFloor) {
+  LinkRateOptions options;
+  options.max_bits_per_s = 4e6;
+  options.min_bits_per_s = 500e3;
+  LinkRateController controller(options);
+  LinkSimulation link;
+  link.capacity_bps = [](double t) { return t < 5 ? 50e6 : 100e3; };
+  const auto samples = link.Run(&controller, 12);
+  for (const auto& s : samples) {
+    EXPECT_LE(s.target, 4e6);
+    EXPECT_GE(s.target, 500e3);
+  }
+  controller.SetMaxBitsPerSecond(1e6);
+  EXPECT_LE(controller.stats().target_bits_per_s, 1e6);
+}
+
+TEST(LinkRateControllerTest, HeavyLossCutsTheTarget) {
+  LinkRateController controller;
+  const double before = controller.stats().target_bits_per_s;
+  std::vector<FrameArrival> report;
+  for (uint64_t n = 1; n <= 60; ++n) {
+    if (n % 4 == 0) continue;  // a quarter never arrived
+    report.push_back({n, static_cast<int64_t>(n) * 33'000'000, 1000});
+  }
+  const double after =
+      controller.OnFeedback(report, SentFrames(), SteadyTime{} + std::chrono::seconds(1));
+  EXPECT_NEAR(controller.stats().loss_fraction, 0, 1e-9);  // applied once, then cleared
+  EXPECT_LT(after, before * 0.9);
+}
+
+TEST(SentFramesTest, KeepsTheNewestAndSumsWhatFollowsAFrame) {
+  SentFrames sent(3);
+  const SteadyTime t0 = SteadyTime{} + std::chrono::seconds(5);
+  for (uint64_t n = 1; n <= 4; ++n) sent.Add(n, t0 + std::chrono::milliseconds(33 * n), 100);
+  EXPECT_FALSE(sent.SendTime(1).has_value());  // beyond the capacity
+  EXPECT_EQ(*sent.SendTime(3), t0 + std::chrono::milliseconds(99));
+  EXPECT_EQ(sent.BitsAfter(2), 1600u);
+  EXPECT_EQ(sent.BitsAfter(4), 0u);
+  sent.Add(1, t0, 10);  // the encoder restarted its numbers
+  EXPECT_FALSE(sent.SendTime(4).has_value());
+  EXPECT_EQ(sent.BitsAfter(0), 80u);
+}
+
+TEST(LinkRateControllerTest, OptionsAreChecked) {
+  std::string error;
+  LinkRateOptions options;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  options.min_bits_per_s = 10e6;
+  EXPECT_FALSE(options.IsValid(&error));
+  options = LinkRateOptions();
+  options.increase_per_s = 1.0;
+  EXPECT_FALSE(options.IsValid(&error));
+}
+
+}  // namespace
+}  // namespace mostar::camera
