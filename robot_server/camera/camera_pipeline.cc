@@ -254,6 +254,13 @@ void CameraPipeline::EncodeH264Loop() {
     const double bits_per_s = std::min(class_target * options_.bitrate.headroom,
                                        rate_control_.Target(class_target, start));
     {
+      const VideoRateStats link = rate_control_.Stats(start);
+      MOSTAR_LOG_EVERY_SEC(INFO, 5)
+          << options_.name << ": h264 at " << bits_per_s / 1e6 << " Mbit/s (class "
+          << class_target / 1e6 << ", " << link.viewers << " viewers reporting, queue "
+          << link.queue_ms << " ms)";
+    }
+    {
       std::lock_guard<std::mutex> lock(mutex_);
       if (keyframes_.ShouldSendIdr(start)) encoder.ForceIdr();
     }

@@ -119,31 +119,35 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
     lane.right = std::make_unique<ImageWriter>(p, topics::kCameraRight, video_qos);
     node->lanes_.push_back(std::move(lane));
   }
-  node->stereo_video_ = std::make_unique<decltype(node->stereo_video_)::element_type>(
-      p, topics::kCameraStereoVideo,
-      dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth), [self](int change) {
-        // A new viewer of the H.264 stream needs an IDR to start decoding: ask at once rather
-        // than wait for its own request one round trip later.
-        if (change > 0 && self->callbacks_.on_keyframe_request) {
-          KeyframeRequest join;
-          join.stamp = self->clock_->Now();
-          join.reason = "join";
-          self->callbacks_.on_keyframe_request(join);
-        }
-      });
-  for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
-    (eye == Eye::kLeft ? node->left_video_ : node->right_video_) =
-        std::make_unique<decltype(node->left_video_)::element_type>(
-            p, eye == Eye::kLeft ? topics::kCameraLeftVideo : topics::kCameraRightVideo,
-            dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth),
-            [self](int change) {
-              if (change > 0 && self->callbacks_.on_keyframe_request) {
-                KeyframeRequest join;
-                join.stamp = self->clock_->Now();
-                join.reason = "join (foxglove)";
-                self->callbacks_.on_keyframe_request(join);
-              }
-            });
+  // The H.264 endpoints only when the camera sends H.264: a JPEG robot has no more endpoints
+  // to rediscover after an outage than before.
+  if (video.h264) {
+    node->stereo_video_ = std::make_unique<decltype(node->stereo_video_)::element_type>(
+        p, topics::kCameraStereoVideo,
+        dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth), [self](int change) {
+          // A new viewer of the H.264 stream needs an IDR to start decoding: ask at once rather
+          // than wait for its own request one round trip later.
+          if (change > 0 && self->callbacks_.on_keyframe_request) {
+            KeyframeRequest join;
+            join.stamp = self->clock_->Now();
+            join.reason = "join";
+            self->callbacks_.on_keyframe_request(join);
+          }
+        });
+    for (const Eye eye : {Eye::kLeft, Eye::kRight}) {
+      (eye == Eye::kLeft ? node->left_video_ : node->right_video_) =
+          std::make_unique<decltype(node->left_video_)::element_type>(
+              p, eye == Eye::kLeft ? topics::kCameraLeftVideo : topics::kCameraRightVideo,
+              dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth),
+              [self](int change) {
+                if (change > 0 && self->callbacks_.on_keyframe_request) {
+                  KeyframeRequest join;
+                  join.stamp = self->clock_->Now();
+                  join.reason = "join (foxglove)";
+                  self->callbacks_.on_keyframe_request(join);
+                }
+              });
+    }
   }
   node->left_info_ = std::make_unique<decltype(node->left_info_)::element_type>(
       p, topics::kCameraInfoLeft, Stream::kState);
@@ -176,41 +180,44 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
       dds::kWithWriter, [self](const dds::wire::ClockProbe& ping, const dds::WriterId& from) {
         self->OnUnlistedPing(dds::FromIdl(ping), from);
       });
-  // Keyframe requests come in the default partition from any viewer (they only cost an IDR,
-  // at most one per 300 ms). Permissions signed before this topic existed refuse the reader:
-  // the robot then runs without it (viewers wait for the periodic IDR), and says so.
-  node->keyframe_requests_reader_ = std::make_unique<KeyframeReader>(
-      p, topics::kKeyframeRequest, dds::ReaderQos(Stream::kControl), dds::kWithWriter,
-      [self](const dds::wire::KeyframeRequest& r, const dds::WriterId&) {
-        ++self->keyframe_requests_;
-        if (self->callbacks_.on_keyframe_request) {
-          self->callbacks_.on_keyframe_request(dds::FromIdl(r));
-        }
-      });
-  if (!node->keyframe_requests_reader_->ok()) {
-    MOSTAR_LOG(WARNING) << node->keyframe_requests_reader_->error()
-                        << ": keyframe requests are not heard (H.264 viewers wait for the "
-                           "periodic IDR); re-sign the permissions: make_pki.sh "
-                           "--update-permissions";
-    node->keyframe_requests_reader_.reset();
-  }
-  node->feedback_reader_ = std::make_unique<FeedbackReader>(
-      p, topics::kVideoFeedback, dds::ReaderQos(Stream::kControl), dds::kWithWriter,
-      [self](const dds::wire::VideoFeedback& f, const dds::WriterId&) {
-        if (self->callbacks_.on_video_feedback) self->callbacks_.on_video_feedback(dds::FromIdl(f));
-      });
-  if (!node->feedback_reader_->ok()) {
-    MOSTAR_LOG(WARNING) << node->feedback_reader_->error()
-                        << ": viewers' receive reports are not heard (the H.264 rate stays at "
-                           "the class target); re-sign the permissions: make_pki.sh "
-                           "--update-permissions";
-    node->feedback_reader_.reset();
+  if (video.h264) {
+    // Keyframe requests come in the default partition from any viewer (they only cost an IDR,
+    // at most one per 300 ms). Permissions signed before this topic existed refuse the reader:
+    // the robot then runs without it (viewers wait for the periodic IDR), and says so.
+    node->keyframe_requests_reader_ = std::make_unique<KeyframeReader>(
+        p, topics::kKeyframeRequest, dds::ReaderQos(Stream::kControl), dds::kWithWriter,
+        [self](const dds::wire::KeyframeRequest& r, const dds::WriterId&) {
+          ++self->keyframe_requests_;
+          if (self->callbacks_.on_keyframe_request) {
+            self->callbacks_.on_keyframe_request(dds::FromIdl(r));
+          }
+        });
+    if (!node->keyframe_requests_reader_->ok()) {
+      MOSTAR_LOG(WARNING) << node->keyframe_requests_reader_->error()
+                          << ": keyframe requests are not heard (H.264 viewers wait for the "
+                             "periodic IDR); re-sign the permissions: make_pki.sh "
+                             "--update-permissions";
+      node->keyframe_requests_reader_.reset();
+    }
+    node->feedback_reader_ = std::make_unique<FeedbackReader>(
+        p, topics::kVideoFeedback, dds::ReaderQos(Stream::kControl), dds::kWithWriter,
+        [self](const dds::wire::VideoFeedback& f, const dds::WriterId&) {
+          if (self->callbacks_.on_video_feedback)
+            self->callbacks_.on_video_feedback(dds::FromIdl(f));
+        });
+    if (!node->feedback_reader_->ok()) {
+      MOSTAR_LOG(WARNING) << node->feedback_reader_->error()
+                          << ": viewers' receive reports are not heard (the H.264 rate stays at "
+                             "the class target); re-sign the permissions: make_pki.sh "
+                             "--update-permissions";
+      node->feedback_reader_.reset();
+    }
   }
   for (const VideoLane& lane : node->lanes_) {
     if (!Check(lane.left, error) || !Check(lane.right, error)) return nullptr;
   }
-  if (!Check(node->stereo_video_, error) || !Check(node->left_video_, error) ||
-      !Check(node->right_video_, error)) {
+  if (video.h264 && (!Check(node->stereo_video_, error) || !Check(node->left_video_, error) ||
+                     !Check(node->right_video_, error))) {
     return nullptr;
   }
   if (!Check(node->scan_, error) || !Check(node->left_info_, error) ||
@@ -385,6 +392,7 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
 }
 
 bool RobotNode::PublishStereoVideo(const StereoVideoFrame& frame) {
+  if (!stereo_video_) return false;  // not created for H.264 (VideoOptions::h264)
   video_write_since_ns_ = clock_->SteadyNow().time_since_epoch().count();
   const bool ok = stereo_video_->Write(dds::ToIdl(frame));
   if (left_video_->matched() > 0) left_video_->Write(dds::ToFoxgloveVideo(frame, Eye::kLeft));

@@ -62,6 +62,9 @@ struct RobotVideoOptions {
   // Heartbeat period of the video writers (dds::VideoWriterQos): about the round trip on long
   // links; > 0.
   std::chrono::milliseconds repair_period = dds::kDefaultVideoRepairPeriod;
+  // The camera sends H.264: create the stream's writers (stereo and Foxglove) and the readers of
+  // keyframe requests and receive reports. Without it PublishStereoVideo returns false.
+  bool h264 = false;
 };
 
 // A client of the robot's role table: whose samples the robot reads, in its partition.
@@ -142,7 +145,7 @@ class RobotNode final : public RobotLink {
 
   // Remote endpoints currently matched (for health: how many viewers and pilots).
   int frame_subscribers() const {
-    return std::max(lanes_.front().left->matched(), stereo_video_->matched());
+    return std::max(lanes_.front().left->matched(), stereo_video_ ? stereo_video_->matched() : 0);
   }
   // Keyframe requests heard (all viewers), H.264 frames written.
   uint64_t keyframe_requests() const { return keyframe_requests_.load(); }

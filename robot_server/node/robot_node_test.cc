@@ -208,6 +208,8 @@ TEST(RobotNodeTest, PublishesTheSonarRingEachSensorsRangeAndTheBumperState) {
   bumpers.latched = 1u << 8;
   node->PublishBumpers(bumpers);
   ASSERT_TRUE(node->FlushOutbox(std::chrono::seconds(5)));
+  // A JPEG robot (VideoOptions::h264 false) has no H.264 writer.
+  EXPECT_FALSE(node->PublishStereoVideo(StereoVideoFrame{}));
 
   std::mutex mutex;
   std::vector<SonarRanges> rings;
@@ -277,7 +279,10 @@ TEST(RobotNodeTest, TheH264StreamReachesViewersAndKeyframeRequestsReachTheCamera
     reports.push_back(feedback);
   };
   std::string error;
-  auto node = RobotNode::Create(robot.get(), {}, callbacks, &SystemClock::Instance(), &error);
+  RobotNode::VideoOptions video;
+  video.h264 = true;
+  auto node =
+      RobotNode::Create(robot.get(), {}, callbacks, &SystemClock::Instance(), &error, video);
   ASSERT_NE(node, nullptr) << error;
   std::vector<StereoVideoFrame> frames;
   std::vector<std::string> foxglove;  // frame ids

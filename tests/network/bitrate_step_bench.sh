@@ -5,15 +5,19 @@
 # pilot in the operator namespace talk over the WAN UDP profile through netem_relay (50 ms
 # one-way, 5 ms jitter, no loss) whose bottleneck steps through RATES (kbit/s), PHASE_S seconds
 # each. The robot's bitrate controller has no configured target (class `lan`): it learns the
-# link from the ack-clock alone. All programs share this machine's clock, so the pilot's trace
-# (arrival and capture stamp of every left frame) gives each frame's age directly.
+# link from the ack-clock alone. With CODEC=h264 the robot sends the H.264 streams instead
+# (deploy/config/server_sim_h264.pbtxt, class `lan`: no target, up to 16 Mbit/s) and follows the
+# link from the pilot's receive reports (LinkRateController). All programs share this
+# machine's clock, so the pilot's trace (arrival and capture stamp of every left frame) gives
+# each frame's age directly.
 #
 # Printed: per phase, the stereo pairs/s and the age p50/p95 from 2 s after the step to the end
 # of the phase, the largest age in the phase, and the settle time (step -> the first 1 s bin
 # after which every bin has age p95 <= one-way + 100 ms); then the bins, one per second.
 #
 # Usage: bitrate_step_bench.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR
-# Environment: RATES ("8000 2000 8000"), PHASE_S (20), KEEP_WORK=1 keeps the traces and logs.
+# Environment: RATES ("8000 2000 8000"), PHASE_S (20), CODEC (jpeg or h264), KEEP_WORK=1 keeps
+# the traces and logs.
 # Needs root (network namespaces, TUN), xvfb-run and python3; exit 77 (skipped) without them.
 set -euo pipefail
 [ $# -eq 4 ] || {
@@ -35,8 +39,15 @@ rns="${prefix}_robot"; ons="${prefix}_operator"
 sed "s/203\.0\.113\.10/10.232.0.1/g" "$src/deploy/dds/wan_udp.xml" > "$work/wan.xml"
 ip -n "$rns" link set veth0 down
 ip -n "$ons" link set veth0 down
+codec=${CODEC:-jpeg}
+case $codec in
+  jpeg) server_config=server_sim.pbtxt ;;
+  h264) server_config=server_sim_h264.pbtxt ;;
+  *) echo "bitrate_step_bench: CODEC must be jpeg or h264" >&2; exit 2 ;;
+esac
 sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
-  "$src/deploy/config/server_sim.pbtxt" > "$work/server.pbtxt"
+  -e 's/initial_class: "wan"/initial_class: "lan"/' \
+  "$src/deploy/config/$server_config" > "$work/server.pbtxt"
 
 steps=""; at=$lead_s
 for ((i = 1; i < ${#rates[@]}; i++)); do
@@ -62,7 +73,7 @@ ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator
 client_pid=$!; pids+=("$client_pid")
 wait "$client_pid" || true
 
-echo "bitrate_step_bench: link ${rates[*]} kbit/s, ${phase_s} s each, 50 ms one-way; $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
+echo "bitrate_step_bench: $codec, link ${rates[*]} kbit/s, ${phase_s} s each, 50 ms one-way; $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
 python3 - "$work/client.csv" "$start_ns" "$lead_s" "$phase_s" "${rates[@]}" <<'EOF'
 import sys
 path, start_ns, lead_s, phase_s = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
