@@ -12,7 +12,10 @@
 #   ATTACK_PROFILE=lan|overlay|wan  the profiles file under deploy/dds/ to run on (default lan):
 #     overlay.xml (UDPv4 unicast, the robot as initial peer) and wan.xml (TCPv4, the robot is the
 #     TCP server) get the namespaces' veth addresses instead of their overlay or placeholder
-#     addresses; the attacker then takes its transports and discovery from the same file.
+#     addresses; the attacker then takes its transports and discovery from the same file. On
+#     wan.xml each of the attacker's participants listens on a TCP port of its own (15200 up,
+#     attacker --tcp-port-base): Fast DDS 2.9 names every TCP client without a listening port
+#     by its process id, so the robot would answer all of them on one of their connections.
 #   ATTACK_MODES="insecure secure"  which runs to do (default both); checks cover those run.
 #   KEEP_WORK=1  keep the work directory.
 #

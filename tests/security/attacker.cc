@@ -32,10 +32,14 @@
 // from the participant profile --dds-profile-name (default "operator") of a Fast DDS XML file
 // without DDS Security (e.g. deploy/dds/overlay.xml or wan.xml with the robot's address), as a
 // console on that deployment would have them; the security properties are still this tool's.
+// On a TCPv4 profile whose client transport has no listening port (wan.xml's operator) each
+// participant of this process listens on a port of its own (--tcp-port-base, default 15200
+// up): Fast DDS 2.9 otherwise answers all of them on one connection (Peer::OwnTcpPort).
 //
 // Expects a live pilot (--victim) holding the lease at start, sending idle commands
 // (enable=false) and clock pings; --claim is a stronger pilot id of the role table that no
 // participant has a certificate for.
+#include <fastdds/rtps/transport/TCPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 
 #include <CLI/CLI.hpp>
@@ -314,6 +318,7 @@ class Peer {
               profile_name_, qos) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
         return nullptr;
       }
+      OwnTcpPort(qos);
     } else {
       qos.transport().use_builtin_transports = false;
       auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
@@ -361,6 +366,9 @@ class Peer {
     profile_name_ = name;
     return true;
   }
+  // From `base` on (0: never), each participant made after this whose profile has a TCPv4
+  // transport without a listening port gets a copy of it listening on a port of its own.
+  static void UseTcpPortsFrom(int base) { next_tcp_port_ = base; }
   ~Peer() {
     participant_->delete_contained_entities();
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
@@ -456,7 +464,26 @@ class Peer {
     return topic;
   }
 
+  // Fast DDS 2.9 gives a TCP client without a listening port the process id as its physical
+  // port: in the locators it announces and in its bind request to the server. The server keeps
+  // one connection per physical locator, the last one bound, so every such participant of this
+  // process but one is answered on another participant's connection, whose transport drops
+  // what is not for its own logical ports. A listening port of its own makes each participant's
+  // physical locator, and so its connection at the server, distinct.
+  static void OwnTcpPort(fdds::DomainParticipantQos& qos) {
+    if (next_tcp_port_ == 0) return;
+    for (auto& transport : qos.transport().user_transports) {
+      auto tcp =
+          std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPv4TransportDescriptor>(transport);
+      if (!tcp || !tcp->listening_ports.empty()) continue;
+      auto own = std::make_shared<eprosima::fastdds::rtps::TCPv4TransportDescriptor>(*tcp);
+      own->listening_ports = {static_cast<uint16_t>(next_tcp_port_++)};
+      transport = own;
+    }
+  }
+
   static inline std::string profile_name_;  // empty: UDPv4, default discovery
+  static inline int next_tcp_port_ = 0;
 
   fdds::DomainParticipant* participant_;
   std::string label_;
@@ -655,6 +682,7 @@ class Suite {
     std::string witness_cert;
     std::string dds_profile;
     std::string dds_profile_name = "operator";
+    int tcp_port_base = 15200;
     std::string victim = "alice";
     std::string claim = "bob";
     int robot_pid = 0;
@@ -670,6 +698,7 @@ class Suite {
                 << options_.dds_profile << "\n";
       return 1;
     }
+    Peer::UseTcpPortsFrom(options_.tcp_port_base);
     witness_peer_ = Peer::Create(options_.domain, "witness", options_.pki,
                                  secure ? options_.witness_cert : "", false, &witness_log_);
     if (!witness_peer_ || !witness_.Start(witness_peer_.get())) {
@@ -1680,6 +1709,10 @@ int Main(int argc, char** argv) {
                  "Fast DDS XML file (no DDS Security) whose transports and discovery to use");
   app.add_option("--dds-profile-name", options.dds_profile_name,
                  "the participant profile of --dds-profile");
+  app.add_option("--tcp-port-base", options.tcp_port_base,
+                 "TCPv4 profiles: each participant listens on its own port from this one on, "
+                 "else Fast DDS 2.9 serves them all on one connection (0: the profile's ports)")
+      ->check(CLI::Range(0, 65000));
   app.add_option("--witness-cert", options.witness_cert,
                  "certificate of the participant that watches the robot");
   app.add_option("--victim", options.victim, "the live pilot's id (holds the lease)");

@@ -26,7 +26,8 @@
 # Environment: INSIDER_CREDENTIALS, INSIDER_PRIVILEGES (subsets), INSIDER_MAKE_PKI (another
 # make_pki.sh), INSIDER_PROFILE=lan|overlay (the robot's profile: deploy/dds/lan.xml, or
 # overlay.xml with the namespaces' addresses, the Cyclone participants then discovering the
-# robot by unicast only), KEEP_WORK=1 (keep the work directory).
+# robot by unicast only; not wan.xml: Cyclone DDS does not speak Fast DDS's TCP transport),
+# KEEP_WORK=1 (keep the work directory).
 set -euo pipefail
 [ $# -eq 5 ] || {
   echo "usage: insider_test.sh ROBOT_SERVER IDENTITY_ACTOR INSIDER_FORGER INSIDER_WITNESS SOURCE_DIR" >&2
