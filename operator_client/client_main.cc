@@ -47,9 +47,20 @@ int Run(int argc, char** argv) {
   std::string trace_path;
   std::string record_path;
   std::string log_level = "info";
+  bool video_via_relay = false;
+  int video_domain = -1;
   app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
       ->check(CLI::Range(0, 232));
   app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
+  auto* via_relay_option = app.add_flag(
+      "--video-via-relay", video_via_relay,
+      "take the camera streams from mostar_relay (participant profile 'operator_video' of "
+      "--dds-profile, on --video-domain), so that the robot's uplink carries the video once; "
+      "commands, e-stop, lease, clock, scans and the rest stay direct");
+  app.add_option("--video-domain", video_domain,
+                 "with --video-via-relay: the relay's observer domain (default --domain + 1)")
+      ->check(CLI::Range(0, 232))
+      ->needs(via_relay_option);
   auto* id_option = app.add_option(
       "--id", flags.client_id,
       "this client's id (shown in the lease); with DDS Security the CN of its certificate, "
@@ -145,6 +156,23 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
+  // The camera streams through mostar_relay: a second participant, same identity, on the
+  // relay's observer domain.
+  std::unique_ptr<dds::Participant> video_participant;
+  dds::ParticipantOptions video_dds_options = dds_options;
+  if (video_via_relay) {
+    video_dds_options.domain_id = video_domain >= 0 ? video_domain : dds_options.domain_id + 1;
+    video_dds_options.xml_participant_profile = "operator_video";
+    if (video_dds_options.domain_id == dds_options.domain_id || video_dds_options.domain_id > 232) {
+      std::cerr << "operator_client: --video-domain must differ from --domain and be at most 232\n";
+      return 2;
+    }
+    video_participant = dds::Participant::Create(video_dds_options, &error);
+    if (!video_participant) {
+      std::cerr << "operator_client: video through the relay: " << error << "\n";
+      return 1;
+    }
+  }
   if (!ResolveClientId(flags, participant->secure(), participant->own_client_id(),
                        &console_options.client_id, &error)) {
     std::cerr << "operator_client: " << dds_profile << ": " << error << "\n";
@@ -173,19 +201,28 @@ int Run(int argc, char** argv) {
   OperatorNode::Options node_options;
   node_options.client_id = client_id;
   node_options.pilot = console_options.pilot;
-  auto node =
-      OperatorNode::Create(participant.get(), node_options,
-                           InboxCallbacks({client_id, clock, &video, &robot, rec, &trace}), &error);
-  if (!node) {
+  if (video_participant) node_options.streams = OperatorNode::Options::Streams::kAllButVideo;
+  const OperatorNode::Callbacks callbacks =
+      InboxCallbacks({client_id, clock, &video, &robot, rec, &trace});
+  auto node = OperatorNode::Create(participant.get(), node_options, callbacks, &error);
+  std::unique_ptr<OperatorNode> video_node;  // through the relay, or null
+  if (node && video_participant) {
+    node_options.streams = OperatorNode::Options::Streams::kVideoOnly;
+    video_node = OperatorNode::Create(video_participant.get(), node_options, callbacks, &error);
+  }
+  if (!node || (video_participant && !video_node)) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
-  video.SetKeyframeRequester([&node, &client_id, clock](uint64_t last, const std::string& reason) {
-    node->SendKeyframeRequest({clock->Now(), client_id, last, reason});
-  });
-  video.SetFeedbackSender([&node, &client_id, clock](const std::vector<VideoFrameArrival>& a) {
-    node->SendVideoFeedback({clock->Now(), client_id, a});
-  });
+  OperatorNode* video_source = video_node ? video_node.get() : node.get();
+  video.SetKeyframeRequester(
+      [video_source, &client_id, clock](uint64_t last, const std::string& reason) {
+        video_source->SendKeyframeRequest({clock->Now(), client_id, last, reason});
+      });
+  video.SetFeedbackSender(
+      [video_source, &client_id, clock](const std::vector<VideoFrameArrival>& a) {
+        video_source->SendVideoFeedback({clock->Now(), client_id, a});
+      });
   // On every way out, the receiver stops writing through the node before it goes (declared
   // after it).
   struct RequesterReset {
@@ -241,7 +278,11 @@ int Run(int argc, char** argv) {
     console.SetScriptedDrive({scripted_drive[0], scripted_drive[1], true});
   }
   MOSTAR_LOG(INFO) << "operator_client '" << client_id << "' (" << flags.role << ") on DDS domain "
-                   << dds_options.domain_id << ", " << window->renderer() << ", display "
+                   << dds_options.domain_id
+                   << (video_participant ? ", video through the relay on domain " +
+                                               std::to_string(video_dds_options.domain_id)
+                                         : std::string())
+                   << ", " << window->renderer() << ", display "
                    << render::DisplayModeName(console_options.mode);
   commands.Start();
   InstallStopSignals();
@@ -261,6 +302,7 @@ int Run(int argc, char** argv) {
     commands.Stop();
     video.SetKeyframeRequester(nullptr);  // they write through the node
     video.SetFeedbackSender(nullptr);
+    video_node.reset();
     node.reset();  // no more callbacks into the recorder
   }
   if (recorder && !recorder->Close(&error)) {

@@ -338,6 +338,81 @@ TEST_F(EndToEndTest, H264StreamsAreDecodedAndShownWithTheOverlay) {
   EXPECT_NE(server_log.find("keyframe requested"), std::string::npos) << server_log;
 }
 
+// One copy up the robot's uplink (docs/networking.md): the pilot takes the H.264 stream through
+// mostar_relay on another domain (--video-via-relay) while its commands go to the robot
+// directly. The robot's only reader of the stream is the relay; the relay's own receive reports
+// and the pilot's, which the relay passes on, drive the robot's rate control.
+TEST_F(EndToEndTest, APilotTakesTheVideoThroughTheRelaySoTheRobotSendsItOnce) {
+  const std::optional<int> video_domain =
+      dds::AcquireUnusedDomainId(100, 132, std::stoi(domain_) - 100 + 1);
+  ASSERT_TRUE(video_domain.has_value());
+  Subprocess server, relay, pilot;
+  std::string error;
+  ASSERT_TRUE(
+      server.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+                    Source("deploy/config/server_sim_h264.pbtxt"), "--trace", dir_ + "/server.csv"},
+                   dir_ + "/server.log", &error))
+      << error;
+  ASSERT_TRUE(
+      relay.Start({Bin("operator_client/relay/mostar_relay"), "--robot-domain", domain_,
+                   "--observer-domain", std::to_string(*video_domain), "--stats-period-s", "1"},
+                  dir_ + "/relay.log", &error))
+      << error;
+  const std::string config = dir_ + "/client.pbtxt";
+  {
+    std::ofstream out(config);
+    out << "calibration_profile: \"" << Source("deploy/config/calibration_sim.pbtxt")
+        << "\"\nvision_enabled: false\n";
+  }
+  ASSERT_TRUE(
+      pilot.Start({Bin("operator_client/operator_client"), "--headless", "--domain", domain_,
+                   "--video-via-relay", "--video-domain", std::to_string(*video_domain), "--id",
+                   "operator", "--config", config, "--duration", "8", "--drive", "0.3,0"},
+                  dir_ + "/client.log", &error))
+      << error;
+  const std::optional<int> pilot_exit = pilot.Wait(std::chrono::seconds(90));
+  ASSERT_TRUE(pilot_exit.has_value()) << "pilot hung";
+  relay.Signal(SIGTERM);
+  server.Signal(SIGTERM);
+  EXPECT_TRUE(relay.Wait(std::chrono::seconds(20)).has_value()) << "relay did not stop";
+  EXPECT_TRUE(server.Wait(std::chrono::seconds(20)).has_value()) << "server did not stop";
+  const std::string report = testing::ReadFile(dir_ + "/client.log");
+  const std::string relay_log = testing::ReadFile(dir_ + "/relay.log");
+  const std::string server_log = testing::ReadFile(dir_ + "/server.log");
+  EXPECT_EQ(pilot_exit.value_or(-1), 0) << report;
+  // The pilot saw the video, through the relay ...
+  EXPECT_GE(Value(report, "video_frames"), 30) << report;
+  EXPECT_GE(Value(report, "pairs_decoded"), 30) << report;
+  EXPECT_EQ(Value(report, "video_errors"), 0) << report;
+  EXPECT_NE(relay_log.find("rt/mostar/camera/stereo/h264: in="), std::string::npos) << relay_log;
+  EXPECT_NE(relay_log.find("observers=1"), std::string::npos) << relay_log;
+  // ... and drove the robot directly: the robot moved.
+  uint64_t max_odom_x_mm = 0;
+  for (const auto& t : ReadTrace(dir_ + "/server.csv")) {
+    if (t.topic == "odom_x_mm") max_odom_x_mm = std::max(max_odom_x_mm, t.sequence);
+  }
+  EXPECT_GT(max_odom_x_mm, 500u) << report;
+  // One copy: the robot never had a second reader of the stream.
+  const std::string readers = "readers of the H.264 stream: ";
+  int max_readers = 0;
+  for (size_t at = server_log.find(readers); at != std::string::npos;
+       at = server_log.find(readers, at + 1)) {
+    max_readers = std::max(max_readers, std::stoi(server_log.substr(at + readers.size())));
+  }
+  EXPECT_EQ(max_readers, 1) << server_log;
+  // The relay reported its own arrivals and passed the pilot's (the lease holder's) reports on:
+  // the robot's rate control heard two viewers, the relay and the pilot.
+  const std::string reports = "video_feedback (to the robot): reports=";
+  const size_t at = relay_log.rfind(reports);
+  ASSERT_NE(at, std::string::npos) << relay_log;
+  EXPECT_GE(std::stoi(relay_log.substr(at + reports.size())), 20) << relay_log;
+  const std::string pilot_reports = "pilot_reports=";
+  const size_t pilot_at = relay_log.find(pilot_reports, at);
+  ASSERT_NE(pilot_at, std::string::npos) << relay_log;
+  EXPECT_GE(std::stoi(relay_log.substr(pilot_at + pilot_reports.size())), 20) << relay_log;
+  EXPECT_NE(server_log.find("2 viewers reporting"), std::string::npos) << server_log;
+}
+
 TEST_F(EndToEndTest, BadFlagsAndConfigGiveClearErrors) {
   Subprocess server;
   std::string error;

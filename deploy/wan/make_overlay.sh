@@ -190,12 +190,14 @@ while IFS=$'\t' read -r name addr key own role; do
   [ "$role" != observer ] || dials=$subnet.1
   sed -e "/mostar:overlay-address/ s#<address>[0-9.]*</address>#<address>$addr</address>#" \
       -e "/mostar:robot-address/ s#<address>[0-9.]*</address>#<address>$dials</address>#" \
+      -e "/mostar:hub-address/ s#<address>[0-9.]*</address>#<address>$subnet.1</address>#" \
       "$template" > "$out/$name.dds.xml"
   chmod 0644 "$out/$name.dds.xml"
 done < "$out/peers.tsv"
 # The hub's own DDS profiles (for mostar_relay on the hub).
 sed -e "/mostar:overlay-address/ s#<address>[0-9.]*</address>#<address>$subnet.1</address>#" \
     -e "/mostar:robot-address/ s#<address>[0-9.]*</address>#<address>$robot_addr</address>#" \
+    -e "/mostar:hub-address/ s#<address>[0-9.]*</address>#<address>$subnet.1</address>#" \
     "$template" > "$out/hub.dds.xml"
 chmod 0644 "$out/hub.pub" "$out/peers.tsv" "$out/hub.dds.xml"
 if [ -n "$tcp_hub" ]; then

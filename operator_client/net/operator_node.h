@@ -45,12 +45,19 @@ class OperatorNode {
     // clock pings are written in its partition (common/identity/sender_partition.h).
     std::string client_id = "operator";
     bool pilot = false;  // observers create no command writer
+    // Which endpoints this node has. A pilot that takes its video through mostar_relay (one
+    // copy up the robot's uplink) runs two nodes: kAllButVideo on the robot's domain and
+    // kVideoOnly (camera images, frame timing, the H.264 stream, keyframe requests, receive
+    // reports) on the relay's observer domain.
+    enum class Streams { kAll, kAllButVideo, kVideoOnly };
+    Streams streams = Streams::kAll;
   };
 
   static std::unique_ptr<OperatorNode> Create(dds::Participant* participant, const Options& options,
                                               Callbacks callbacks, std::string* error);
 
-  // False for observers and when DDS refused the sample.
+  // False for observers, for a node without the writer (Options::streams) and when DDS refused
+  // the sample.
   bool SendCommand(const VelocityCommand& command);
   bool SendEmergencyStop(const EmergencyStop& stop);
   bool SendControlRequest(const ControlRequest& request);
@@ -61,7 +68,10 @@ class OperatorNode {
   // A receive report for the robot's rate control; false as SendKeyframeRequest.
   bool SendVideoFeedback(const VideoFeedback& feedback);
 
-  bool robot_seen() const { return scan_->matched() > 0 || health_->matched() > 0; }
+  bool robot_seen() const {
+    return (scan_ && scan_->matched() > 0) || (health_ && health_->matched() > 0) ||
+           (video_ && video_->matched() > 0);
+  }
   bool is_pilot() const { return command_ != nullptr; }
 
  private:

@@ -6,11 +6,15 @@
 // health, control lease and the H.264 stream; one on the observer side (domain --observer-domain,
 // profile
 // --observer-profile-name, default "relay_observers") re-publishes every sample unchanged, with
-// the same QoS (common/dds/qos.h). Towards the robot only two things go: observers'
+// the same QoS (common/dds/qos.h). Towards the robot only three things go: observers'
 // emergency-stop engagements, under the relay's own id and thinned (estop_forwarding.h), so
-// anyone watching can stop the robot, and their H.264 keyframe requests. Commands, control
-// requests, clock pings and e-stop releases are never forwarded: observers behind the relay cannot
-// drive the robot or release a stop, and with DDS Security the relay's permissions
+// anyone watching can stop the robot; their H.264 keyframe requests; and the relay's own
+// receive reports of the H.264 stream (arrival_report.h), so that the robot's rate control
+// follows its uplink to the relay, which carries the video once for every viewer behind it
+// (pilots with operator_client --video-via-relay included), and the lease holder's reports
+// (the pilot's path through the hub); other viewers' reports stay here.
+// Commands, control requests, clock pings and e-stop releases are never forwarded: observers behind
+// the relay cannot drive the robot or release a stop, and with DDS Security the relay's permissions
 // (deploy/security/make_pki.sh --relay) allow it no other writer on the robot side.
 //
 // The two sides must not share a DDS network: give them different domain ids (the default
@@ -25,6 +29,7 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -43,6 +48,7 @@
 #include "common/time/time.h"
 #include "mostar_msgsPubSubTypes.h"
 #include "operator_client/relay/estop_forwarding.h"
+#include "operator_client/video/arrival_report.h"
 #include "ros2_msgsPubSubTypes.h"
 
 namespace mostar::relay {
@@ -65,13 +71,17 @@ class Forwarder final : public ForwarderBase {
                   dds::ReaderQos(stream)) {}
   // From `from` to `to` with the given QoS (the H.264 stream's depth; keyframe requests go the
   // other way, observers to robot).
+  // `on_sample`, if set, sees each sample first (on the DDS receive thread).
   Forwarder(dds::Participant& from, dds::Participant& to, const char* topic,
             const eprosima::fastdds::dds::DataWriterQos& writer_qos,
-            const eprosima::fastdds::dds::DataReaderQos& reader_qos)
+            const eprosima::fastdds::dds::DataReaderQos& reader_qos,
+            std::function<void(const typename PubSubType::type&)> on_sample = nullptr)
       : topic_(topic),
+        on_sample_(std::move(on_sample)),
         writer_(to, topic, writer_qos),
         reader_(from, topic, reader_qos, dds::kWithWriter,
                 [this](const typename PubSubType::type& sample, const dds::WriterId&) {
+                  if (on_sample_) on_sample_(sample);
                   if (!writer_.Write(sample)) ++dropped_;
                 }) {}
 
@@ -89,6 +99,7 @@ class Forwarder final : public ForwarderBase {
 
  private:
   const char* topic_;
+  const std::function<void(const typename PubSubType::type&)> on_sample_;
   std::atomic<uint64_t> dropped_{0};
   dds::Writer<PubSubType> writer_;  // constructed before the reader that feeds it
   dds::Reader<PubSubType> reader_;
@@ -180,6 +191,11 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1e7));
   app.add_option("--stats-period-s", stats_period_s, "print forwarding statistics this often")
       ->check(CLI::Range(0.1, 3600.0));
+  int video_repair_period_ms = static_cast<int>(dds::kDefaultVideoRepairPeriod.count());
+  app.add_option("--video-repair-period-ms", video_repair_period_ms,
+                 "heartbeat period of the forwarded H.264 stream towards viewers: about their "
+                 "round trip (the Internet recipe: 250), as the robot's dds.video_repair_period_ms")
+      ->check(CLI::Range(10, 2000));
   bool insecure = false;
   app.add_flag("--insecure", insecure,
                "allow a network DDS profile without DDS Security (docs/security.md)");
@@ -230,8 +246,16 @@ int Main(int argc, char** argv) {
       *robot_side, *observer_side, topics::kOdometry, Stream::kSensor));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::RobotHealth_PubSubType>>(
       *robot_side, *observer_side, topics::kHealth, Stream::kState));
+  // The lease holder's id: its receive reports are passed to the robot (below).
+  std::mutex holder_mutex;
+  std::string holder_id;
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::ControlLease_PubSubType>>(
-      *robot_side, *observer_side, topics::kControlLease, Stream::kState));
+      *robot_side, *observer_side, topics::kControlLease, dds::WriterQos(Stream::kState),
+      dds::ReaderQos(Stream::kState),
+      [&holder_mutex, &holder_id](const dds::wire::ControlLease& l) {
+        std::lock_guard<std::mutex> lock(holder_mutex);
+        holder_id = l.holder_id();
+      }));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::FrameTiming_PubSubType>>(
       *robot_side, *observer_side, topics::kCameraTiming, Stream::kSensor));
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::SonarRing_PubSubType>>(
@@ -241,12 +265,21 @@ int Main(int argc, char** argv) {
   forwarders.push_back(std::make_unique<Forwarder<mostar_msgs::msg::dds_::BumperState_PubSubType>>(
       *robot_side, *observer_side, topics::kBumpers, Stream::kState));
   // The H.264 stream goes through unchanged: its AU numbers stay the robot's, so an observer
-  // sees every frame lost upstream of it as a gap and asks for an IDR.
+  // sees every frame lost upstream of it as a gap and asks for an IDR. The relay records each
+  // frame's arrival for its own receive reports to the robot.
+  std::mutex arrivals_mutex;
+  client::ArrivalReport arrivals;
   forwarders.push_back(
       std::make_unique<Forwarder<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>>(
           *robot_side, *observer_side, topics::kCameraStereoVideo,
-          dds::VideoStreamWriterQos(dds::kDefaultVideoRepairPeriod, dds::kVideoStreamDepth),
-          dds::VideoStreamReaderQos(dds::kVideoStreamDepth)));
+          dds::VideoStreamWriterQos(std::chrono::milliseconds(video_repair_period_ms),
+                                    dds::kVideoStreamDepth),
+          dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
+          [&arrivals_mutex, &arrivals](const dds::wire::StereoVideoFrame& frame) {
+            const SteadyTime now = SystemClock::Instance().SteadyNow();
+            std::lock_guard<std::mutex> lock(arrivals_mutex);
+            arrivals.Add(frame.sequence_number(), now, frame.left().size() + frame.right().size());
+          }));
   // Observers' keyframe requests go to the robot (which acts on one per 300 ms). Permissions
   // signed before the topic existed refuse it: the relay then runs without.
   auto keyframes = std::make_unique<Forwarder<mostar_msgs::msg::dds_::KeyframeRequest_PubSubType>>(
@@ -265,6 +298,39 @@ int Main(int argc, char** argv) {
     return 2;
   }
   forwarders.push_back(std::make_unique<EstopForwarder>(*robot_side, *observer_side, relay_id));
+  // The relay's receive reports (robot side, default partition); permissions signed before
+  // the topic existed refuse the writer: the robot's rate control then cannot hear the relay.
+  auto feedback = std::make_unique<dds::Writer<mostar_msgs::msg::dds_::VideoFeedback_PubSubType>>(
+      *robot_side, topics::kVideoFeedback, dds::WriterQos(Stream::kControl));
+  if (!feedback->ok()) {
+    MOSTAR_LOG(WARNING) << feedback->error()
+                        << ": the robot's video rate control cannot hear the relay; re-sign the "
+                           "permissions (make_pki.sh --update-permissions)";
+    feedback.reset();
+  }
+  std::atomic<uint64_t> reports_sent{0}, pilot_reports{0};
+  // The pilot's own receive reports (the lease holder's id; other viewers' stay here): the
+  // robot's rate control then also follows the hub-to-pilot path, the one the pilot drives by.
+  // The id is a claim, as on any report (docs/security.md, "Video requests and receive
+  // reports").
+  std::unique_ptr<dds::Reader<mostar_msgs::msg::dds_::VideoFeedback_PubSubType>> viewer_reports;
+  if (feedback) {
+    viewer_reports =
+        std::make_unique<dds::Reader<mostar_msgs::msg::dds_::VideoFeedback_PubSubType>>(
+            *observer_side, topics::kVideoFeedback, dds::ReaderQos(Stream::kControl),
+            dds::kWithWriter, [&](const dds::wire::VideoFeedback& report, const dds::WriterId&) {
+              {
+                std::lock_guard<std::mutex> lock(holder_mutex);
+                if (holder_id.empty() || report.sender_id() != holder_id) return;
+              }
+              if (feedback->Write(report)) ++pilot_reports;
+            });
+    if (!viewer_reports->ok()) {
+      MOSTAR_LOG(WARNING) << viewer_reports->error()
+                          << ": the pilot's receive reports are not passed to the robot";
+      viewer_reports.reset();
+    }
+  }
   for (const auto& f : forwarders) {
     if (!f->ok(&error)) {
       std::cerr << "mostar_relay: " << error << "\n";
@@ -283,15 +349,31 @@ int Main(int argc, char** argv) {
   while (!StopRequested()) {
     const Clock::time_point now = Clock::now();
     if (duration_s > 0 && now - start >= std::chrono::duration<double>(duration_s)) break;
+    std::vector<VideoFrameArrival> due;
+    {
+      std::lock_guard<std::mutex> lock(arrivals_mutex);
+      due = arrivals.TakeDue(SystemClock::Instance().SteadyNow());
+    }
+    if (feedback && !due.empty() &&
+        feedback->Write(
+            dds::ToIdl(VideoFeedback{SystemClock::Instance().Now(), relay_id, std::move(due)}))) {
+      ++reports_sent;
+    }
     if (now >= next_stats) {
       for (const auto& f : forwarders) MOSTAR_LOG(INFO) << "relay " << f->Stats();
+      MOSTAR_LOG(INFO) << "relay " << topics::kVideoFeedback
+                       << " (to the robot): reports=" << reports_sent
+                       << " pilot_reports=" << pilot_reports;
       next_stats += std::chrono::duration_cast<Clock::duration>(
           std::chrono::duration<double>(stats_period_s));
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   // Final statistics on stdout, one line per topic, for scripts.
   for (const auto& f : forwarders) std::cout << "relay " << f->Stats() << "\n";
+  viewer_reports.reset();  // before the writer it uses
+  std::cout << "relay " << topics::kVideoFeedback << " (to the robot): reports=" << reports_sent
+            << " pilot_reports=" << pilot_reports << "\n";
   forwarders.clear();  // stop callbacks before the participants go
   return 0;
 }

@@ -134,11 +134,7 @@ void StereoReceiver::PushVideo(const StereoVideoFrame& frame) {
   const size_t bytes = frame.left.size() + frame.right.size();
   // Arrival on this machine's monotonic clock, before any check: the robot's rate control
   // judges the link, whatever becomes of the frame here.
-  if (arrivals_.size() < 4 * VideoFeedback::kMaxArrivals &&
-      (arrivals_.empty() || frame.sequence > arrivals_.back().sequence)) {
-    arrivals_.push_back({frame.sequence, clock_->SteadyNow().time_since_epoch().count(),
-                         static_cast<uint32_t>(std::min<size_t>(bytes, UINT32_MAX))});
-  }
+  arrivals_.Add(frame.sequence, clock_->SteadyNow(), bytes);
   ++stats_.video_frames;
   stats_.images += 2;
   stats_.bytes += bytes;
@@ -264,14 +260,7 @@ void StereoReceiver::DecodeLoop() {
       } else {
         ++stats_.video_skipped;
       }
-      std::vector<VideoFrameArrival> report;
-      if (!arrivals_.empty() && (!last_feedback_ || now - *last_feedback_ >= kFeedbackPeriod ||
-                                 arrivals_.size() >= VideoFeedback::kMaxArrivals)) {
-        const size_t n = std::min(arrivals_.size(), VideoFeedback::kMaxArrivals);
-        report.assign(arrivals_.begin(), arrivals_.begin() + static_cast<std::ptrdiff_t>(n));
-        arrivals_.erase(arrivals_.begin(), arrivals_.begin() + static_cast<std::ptrdiff_t>(n));
-        last_feedback_ = now;
-      }
+      const std::vector<VideoFrameArrival> report = arrivals_.TakeDue(now);
       if (!report.empty()) {
         lock.unlock();
         {

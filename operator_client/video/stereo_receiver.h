@@ -38,6 +38,7 @@
 #include "common/time/time.h"
 #include "common/timesync/clock_offset_estimator.h"
 #include "common/types/stereo_frame.h"
+#include "operator_client/video/arrival_report.h"
 #include "operator_client/video/pair_stamp_gate.h"
 
 namespace mostar::h264 {
@@ -169,8 +170,7 @@ class StereoReceiver {
   std::mutex request_mutex_;    // held while keyframe_request_ or feedback_ is set or called
   KeyframeRequestFn keyframe_request_;
   FeedbackFn feedback_;
-  std::vector<VideoFrameArrival> arrivals_;  // not yet reported (mutex_)
-  std::optional<SteadyTime> last_feedback_;  // decoder thread
+  ArrivalReport arrivals_{kFeedbackPeriod};  // mutex_
   std::optional<DecodedStereoPair> latest_;
   ReceiverStats stats_;
   RateMeter pair_rate_;

@@ -258,7 +258,8 @@ void CameraPipeline::EncodeH264Loop() {
       MOSTAR_LOG_EVERY_SEC(INFO, 5)
           << options_.name << ": h264 at " << bits_per_s / 1e6 << " Mbit/s (class "
           << class_target / 1e6 << ", " << link.viewers << " viewers reporting, queue "
-          << link.queue_ms << " ms)";
+          << link.queue_ms << " ms)" << (link.viewers > 0 ? " " : "")
+          << (link.viewers > 0 ? rate_control_.Describe(start) : std::string());
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -87,7 +87,15 @@ double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
   for (const FrameArrival& arrival : arrivals) {
     if (last_sequence_ && arrival.sequence <= *last_sequence_) continue;
     if (const std::optional<SteadyTime> at = sent.SendTime(arrival.sequence)) {
-      OnArrival(arrival, *at);
+      AddReceived(arrival);
+      if (held_) {
+        if (arrival.arrival_ns - held_->first.arrival_ns >= kReleaseBatchNs) {
+          AddDelay(held_->first, held_->second);
+        } else {
+          ++stats_.held_back;
+        }
+      }
+      held_.emplace(arrival, *at);
       last_sent_ = *at;
     }
     ++reported_;
@@ -111,12 +119,15 @@ double LinkRateController::PredictedQueueMs(const SentFrames& sent, SteadyTime n
   return std::max(0.0, stats_.queue_delay_ms + added_ms - passed_ms);
 }
 
-void LinkRateController::OnArrival(const FrameArrival& arrival, SteadyTime sent) {
-  const int64_t send_ns = sent.time_since_epoch().count();
+void LinkRateController::AddReceived(const FrameArrival& arrival) {
   received_.emplace_back(arrival.arrival_ns, arrival.bytes);
   while (!received_.empty() && arrival.arrival_ns - received_.front().first > kThroughputWindowNs) {
     received_.pop_front();
   }
+}
+
+void LinkRateController::AddDelay(const FrameArrival& arrival, SteadyTime sent) {
+  const int64_t send_ns = sent.time_since_epoch().count();
   // The delay of the frame's first byte: less its own transmission time at the rate the link
   // delivered lately, so that bigger frames at a higher rate do not read as queueing.
   const double rate = received_.size() >= 2 ? RecentThroughput() : 0;

@@ -73,6 +73,7 @@ struct LinkRateStats {
   LinkUsage usage = LinkUsage::kNormal;
   uint64_t overuse_reports = 0;
   uint64_t decreases = 0;
+  uint64_t held_back = 0;  // frames released together with a later one: no delay sample
 };
 
 // The robot's record of the frames it wrote: AU number -> (send time, bytes), the newest
@@ -105,13 +106,24 @@ class LinkRateController {
   const LinkRateStats& stats() const { return stats_; }
   // Whether the encoder should skip the frame it would write at `now`: the queue it would meet
   // is over `skip_queue_ms` (after a drop in capacity the frames already queued are late
-  // enough; more would only wait behind them).
+  // enough; more would only wait behind them) and the last frame seen met a queue too. Without
+  // a measured queue the encoder, not the link, limits the throughput, and an IDR written at a
+  // low rate would read as seconds of queue at that throughput.
   bool ShouldSkipFrame(const SentFrames& sent, SteadyTime now) const {
-    return PredictedQueueMs(sent, now) > options_.skip_queue_ms;
+    return stats_.queue_delay_ms >= options_.normal_queue_ms &&
+           PredictedQueueMs(sent, now) > options_.skip_queue_ms;
   }
 
  private:
-  void OnArrival(const FrameArrival& arrival, SteadyTime sent);
+  // A reliable, in-order stream turns a loss into a wait: the frames after a lost one are held
+  // at the viewer until the repair arrives, then released together. Their delays measure the
+  // repair (a round trip and a heartbeat), not a queue, so a frame that arrived within
+  // kReleaseBatch of the next one gives no delay sample; the last of a batch, sent just before
+  // the release, does. (WebRTC's GCC groups packets that arrive within 5 ms alike.) The newest
+  // frame of each report is therefore judged with the next report.
+  static constexpr int64_t kReleaseBatchNs = 5'000'000;
+  void AddReceived(const FrameArrival& arrival);
+  void AddDelay(const FrameArrival& arrival, SteadyTime sent);
   // The queueing delay a frame written at `now` meets: the last one seen, plus what the frames
   // written since then add (their bits at the delivery rate) less the time that passed.
   double PredictedQueueMs(const SentFrames& sent, SteadyTime now) const;
@@ -126,7 +138,8 @@ class LinkRateController {
   // Throughput (viewer clock) and loss.
   std::deque<std::pair<int64_t, uint32_t>> received_;  // (arrival ns, bytes), last 500 ms
   std::optional<uint64_t> last_sequence_;
-  std::optional<SteadyTime> last_sent_;  // send time of the last frame reported
+  std::optional<SteadyTime> last_sent_;                      // send time of the last frame reported
+  std::optional<std::pair<FrameArrival, SteadyTime>> held_;  // newest frame, its delay not used yet
   uint64_t reported_ = 0;
   uint64_t expected_ = 0;
   // Rate.

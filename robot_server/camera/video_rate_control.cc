@@ -1,6 +1,7 @@
 #include "robot_server/camera/video_rate_control.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace mostar::camera {
 
@@ -46,21 +47,36 @@ void VideoRateControl::OnFeedback(const VideoFeedback& feedback, SteadyTime now)
 double VideoRateControl::Target(double class_target, SteadyTime now) {
   std::lock_guard<std::mutex> lock(mutex_);
   double target = class_target > 0 ? class_target : 0;
+  bool heard = false;
   for (const auto& [id, viewer] : viewers_) {
     if (now - viewer.last_report > options_.viewer_timeout) continue;
+    heard = true;
     const double t = viewer.controller.stats().target_bits_per_s;
     target = target > 0 ? std::min(target, t) : t;
   }
+  // Nobody has told the link yet (start, or every viewer quiet after an outage): start where
+  // a new viewer's controller starts rather than fill a link of unknown size.
+  if (!heard && target > 0) target *= options_.link.start_fraction;
   return target;
 }
 
 bool VideoRateControl::ShouldSkipFrame(SteadyTime now) {
   std::lock_guard<std::mutex> lock(mutex_);
+  bool skip = false;
   for (const auto& [id, viewer] : viewers_) {
     if (now - viewer.last_report > options_.viewer_timeout) continue;
-    if (viewer.controller.ShouldSkipFrame(sent_, now)) return true;
+    if (viewer.controller.ShouldSkipFrame(sent_, now)) skip = true;
   }
-  return false;
+  if (!skip) {
+    skipping_since_.reset();
+    return false;
+  }
+  if (!skipping_since_) skipping_since_ = now;
+  if (now - *skipping_since_ >= options_.max_skip) {
+    skipping_since_.reset();  // this frame goes out and measures the link
+    return false;
+  }
+  return true;
 }
 
 VideoRateStats VideoRateControl::Stats(SteadyTime now) {
@@ -78,6 +94,25 @@ VideoRateStats VideoRateControl::Stats(SteadyTime now) {
     stats.queue_ms = std::max(stats.queue_ms, s.predicted_queue_ms);
   }
   return stats;
+}
+
+std::string VideoRateControl::Describe(SteadyTime now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::string out;
+  for (const auto& [id, viewer] : viewers_) {
+    if (now - viewer.last_report > options_.viewer_timeout) continue;
+    const LinkRateStats& s = viewer.controller.stats();
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "%s%s: target %.2f Mbit/s, received %.2f Mbit/s, queue %.0f ms (%s), "
+                  "%llu decreases, %llu held back",
+                  out.empty() ? "" : "; ", id.substr(0, 64).c_str(), s.target_bits_per_s / 1e6,
+                  s.throughput_bits_per_s / 1e6, s.predicted_queue_ms, LinkUsageName(s.usage),
+                  static_cast<unsigned long long>(s.decreases),
+                  static_cast<unsigned long long>(s.held_back));
+    out += line;
+  }
+  return out;
 }
 
 }  // namespace mostar::camera

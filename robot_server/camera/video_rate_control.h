@@ -1,14 +1,15 @@
 // The H.264 target for everyone watching: one LinkRateController per viewer that sends receive
 // reports (VideoFeedback), fed with the robot's record of the frames it wrote; the target is
 // the lowest of the viewers heard from in the last `viewer_timeout`, never above the class
-// target. Viewers behind the relay do not report (the relay forwards frames, not reports): the
-// robot's uplink is judged by those that read it directly. At most `max_viewers` are tracked;
-// a new one replaces the one heard from least recently. Thread-safe (the pipeline's compression
-// thread and DDS threads).
+// target, and a fraction of it while nobody reports. Viewers behind mostar_relay do not report
+// to the robot: the relay reports its own arrivals, which judge the robot's uplink. At most
+// `max_viewers` are tracked; a new one replaces the one heard from least recently. Thread-safe (the
+// pipeline's compression thread and DDS threads).
 #pragma once
 
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "common/time/time.h"
@@ -21,6 +22,10 @@ struct VideoRateControlOptions {
   LinkRateOptions link;
   Duration viewer_timeout = std::chrono::seconds(2);
   size_t max_viewers = 16;
+  // Skipping frames stops for one frame after this long: only frames sent measure the link, and
+  // a queue estimate left over from an outage (frames that waited it out) would otherwise keep
+  // the encoder silent until it aged away.
+  Duration max_skip = std::chrono::milliseconds(500);
 };
 
 struct VideoRateStats {
@@ -41,12 +46,17 @@ class VideoRateControl {
   void OnFrameSent(uint64_t sequence, SteadyTime now, uint32_t bytes);
   // A viewer's report (DDS thread).
   void OnFeedback(const VideoFeedback& feedback, SteadyTime now);
-  // The target for the next frame: the lowest viewer's, or `class_target` with no reports
-  // (<= 0: unlimited, returned as 0).
+  // The target for the next frame: the lowest viewer's; with no viewer heard from within the
+  // timeout, `class_target` times the link options' start_fraction (<= 0: unlimited, returned
+  // as 0).
   double Target(double class_target, SteadyTime now);
-  // Skip the frame the encoder would write now (some viewer's queue is too long).
+  // Skip the frame the encoder would write now (some viewer's queue is too long), but never for
+  // longer than max_skip in a row.
   bool ShouldSkipFrame(SteadyTime now);
   VideoRateStats Stats(SteadyTime now);
+  // One line per viewer heard from within the timeout, for the log: id, target, throughput,
+  // queue, usage, decreases, frames held back by repairs.
+  std::string Describe(SteadyTime now);
 
  private:
   struct Viewer {
@@ -60,6 +70,7 @@ class VideoRateControl {
   std::map<std::string, Viewer> viewers_;
   uint64_t reports_ = 0;
   uint64_t refused_ = 0;
+  std::optional<SteadyTime> skipping_since_;
 };
 
 }  // namespace mostar::camera

@@ -22,9 +22,10 @@ VideoFeedback Report(const std::string& viewer, uint64_t first, uint64_t last, d
   return feedback;
 }
 
-TEST(VideoRateControlTest, WithoutReportsTheClassTargetApplies) {
+TEST(VideoRateControlTest, WithoutReportsTheTargetStartsWhereANewViewersControllerStarts) {
   VideoRateControl control;
-  EXPECT_EQ(control.Target(8e6, kT0), 8e6);
+  EXPECT_EQ(control.Target(8e6, kT0), 8e6 * LinkRateOptions().start_fraction);
+  EXPECT_LT(LinkRateOptions().start_fraction, 1.0);
   EXPECT_EQ(control.Target(0, kT0), 0);
   EXPECT_FALSE(control.ShouldSkipFrame(kT0));
   EXPECT_EQ(control.Stats(kT0).viewers, 0);
@@ -45,9 +46,27 @@ TEST(VideoRateControlTest, TheSlowestViewerSetsTheTargetUntilItGoesQuiet) {
   const double target = control.Target(8e6, now);
   EXPECT_LT(target, 8e6 * 0.9);
   EXPECT_TRUE(control.ShouldSkipFrame(now));
-  // Two seconds later without reports the slow viewer no longer counts.
-  EXPECT_EQ(control.Target(8e6, now + std::chrono::seconds(3)), 8e6);
+  // Two seconds later without reports the slow viewer no longer counts: back to the start.
+  EXPECT_EQ(control.Target(8e6, now + std::chrono::seconds(3)),
+            8e6 * LinkRateOptions().start_fraction);
   EXPECT_FALSE(control.ShouldSkipFrame(now + std::chrono::seconds(3)));
+}
+
+// Only frames sent measure the link: after an outage the frames that waited it out report
+// seconds of queue, and without new frames nothing would correct that. Skipping therefore
+// pauses for one frame every max_skip.
+TEST(VideoRateControlTest, SkippingPausesForOneFrameEveryMaxSkip) {
+  VideoRateControlOptions options;
+  options.max_skip = milliseconds(100);
+  VideoRateControl control(options);
+  control.SetClassTarget(8e6);
+  for (uint64_t n = 1; n <= 60; ++n) control.OnFrameSent(n, kT0 + milliseconds(33 * n), 20'000);
+  const SteadyTime now = kT0 + milliseconds(33 * 60 + 60);
+  control.OnFeedback(Report("slow", 1, 60, 50, 8), now);  // about 480 ms of queue
+  EXPECT_TRUE(control.ShouldSkipFrame(now));
+  EXPECT_TRUE(control.ShouldSkipFrame(now + milliseconds(50)));
+  EXPECT_FALSE(control.ShouldSkipFrame(now + milliseconds(100))) << "one frame goes out";
+  EXPECT_TRUE(control.ShouldSkipFrame(now + milliseconds(101))) << "then skipping resumes";
 }
 
 TEST(VideoRateControlTest, MalformedReportsAreRefusedAndTheTableIsBounded) {

@@ -125,6 +125,10 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
     node->stereo_video_ = std::make_unique<decltype(node->stereo_video_)::element_type>(
         p, topics::kCameraStereoVideo,
         dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth), [self](int change) {
+          // Each reader is one copy of the stream up the robot's uplink (viewers behind
+          // mostar_relay are not readers here).
+          const int readers = self->h264_readers_.fetch_add(change) + change;
+          MOSTAR_LOG(INFO) << "readers of the H.264 stream: " << readers;
           // A new viewer of the H.264 stream needs an IDR to start decoding: ask at once rather
           // than wait for its own request one round trip later.
           if (change > 0 && self->callbacks_.on_keyframe_request) {

@@ -253,6 +253,7 @@ class RobotNode final : public RobotLink {
   std::unique_ptr<FeedbackReader> feedback_reader_;  // null: permissions refused it
   std::atomic<uint64_t> keyframe_requests_{0};
   std::atomic<uint64_t> video_frames_sent_{0};
+  std::atomic<int> h264_readers_{0};  // matched readers of the stereo H.264 stream
   std::vector<std::unique_ptr<SenderReaders>> senders_;
   std::unique_ptr<PingReader> unlisted_ping_;  // every client partition
 };

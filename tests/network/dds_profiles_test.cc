@@ -211,7 +211,7 @@ void CheckWanUdp() {
 // The template deploy/wan/make_overlay.sh fills per peer: its defaults are hub 10.77.0.1 and
 // robot 10.77.0.2.
 void CheckOverlay() {
-  for (const char* name : {"robot", "operator", "relay", "relay_observers"}) {
+  for (const char* name : {"robot", "operator", "operator_video", "relay", "relay_observers"}) {
     const auto qos = Load("overlay.xml", name);
     ExpectOverlayLease(qos, std::string("overlay.xml ") + name);
     EXPECT_FALSE(qos.transport().use_builtin_transports) << name;
@@ -225,12 +225,16 @@ void CheckOverlay() {
     // The overlay address, and loopback for participants of the same computer.
     EXPECT_EQ(udp[0]->interfaceWhiteList, (std::vector<std::string>{"10.77.0.2", "127.0.0.1"}))
         << name;
-    // Unicast discovery: operators and the relay's robot side dial the robot's overlay address.
+    // Unicast discovery: operators and the relay's robot side dial the robot's overlay address,
+    // an operator's video participant the relay on the hub.
     const auto& discovery = qos.wire_protocol().builtin.discovery_config;
     EXPECT_EQ(discovery.discoveryProtocol, frtps::rtps::DiscoveryProtocol_t::SIMPLE) << name;
     const auto& peers = qos.wire_protocol().builtin.initialPeersList;
     const bool dials = std::string(name) == "operator" || std::string(name) == "relay";
-    if (dials) {
+    if (std::string(name) == "operator_video") {
+      ASSERT_EQ(peers.size(), 1u) << name;
+      EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "10.77.0.1") << name;
+    } else if (dials) {
       ASSERT_EQ(peers.size(), 1u) << name;
       EXPECT_EQ(frtps::rtps::IPLocator::toIPv4string(*peers.begin()), "10.77.0.2") << name;
     } else {

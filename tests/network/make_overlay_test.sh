@@ -67,16 +67,16 @@ for p in root.findall(".//d:participant", ns):
 print(" ".join(out))
 EOF
 }
-check "alice's DDS profiles announce only her overlay address and dial the robot" \
-  '[ "$(profile_values "$out/alice.dds.xml")" = "10.77.0.3,127.0.0.1 robot=- operator=10.77.0.2 relay=10.77.0.2 relay_observers=-" ]'
+check "alice's DDS profiles announce only her overlay address and dial the robot (her video through the relay: the hub)" \
+  '[ "$(profile_values "$out/alice.dds.xml")" = "10.77.0.3,127.0.0.1 robot=- operator=10.77.0.2 operator_video=10.77.0.1 relay=10.77.0.2 relay_observers=-" ]'
 check "an observer's DDS profiles dial the relay on the hub" \
-  '[ "$(profile_values "$out/dave.dds.xml")" = "10.77.0.5,127.0.0.1 robot=- operator=10.77.0.1 relay=10.77.0.1 relay_observers=-" ]'
+  '[ "$(profile_values "$out/dave.dds.xml")" = "10.77.0.5,127.0.0.1 robot=- operator=10.77.0.1 operator_video=10.77.0.1 relay=10.77.0.1 relay_observers=-" ]'
 check "the hub's DDS profiles (a relay there) use its own address and dial the robot" \
-  '[ "$(profile_values "$out/hub.dds.xml")" = "10.77.0.1,127.0.0.1 robot=- operator=10.77.0.2 relay=10.77.0.2 relay_observers=-" ]'
+  '[ "$(profile_values "$out/hub.dds.xml")" = "10.77.0.1,127.0.0.1 robot=- operator=10.77.0.2 operator_video=10.77.0.1 relay=10.77.0.2 relay_observers=-" ]'
 check "the robot's profile dials no one (operators announce themselves to it)" \
-  '[ "$(profile_values "$out/robot.dds.xml")" = "10.77.0.2,127.0.0.1 robot=- operator=10.77.0.2 relay=10.77.0.2 relay_observers=-" ]'
+  '[ "$(profile_values "$out/robot.dds.xml")" = "10.77.0.2,127.0.0.1 robot=- operator=10.77.0.2 operator_video=10.77.0.1 relay=10.77.0.2 relay_observers=-" ]'
 check "the DDS profiles keep the security marker for make_pki.sh" \
-  '[ "$(grep -c "<!-- mostar:security -->" "$out/alice.dds.xml")" = 4 ]'
+  '[ "$(grep -c "<!-- mostar:security -->" "$out/alice.dds.xml")" = 5 ]'
 
 robot_key=$(field robot 3)
 "$gen" "$out" --hub-endpoint hub.example.org:51820 --peer carol --peer robot > "$work/log2"

@@ -43,7 +43,14 @@
 # PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
 # REPAIR_MS (250: the server's dds.video_repair_period_ms), WINDOW (the server's default:
 # dds.video_window_pairs),
-# TRANSPORT ("udp", or "tcp" with WG_TCP), KEEP_WORK=1 keeps logs and traces. Prints RESULT
+# TRANSPORT ("udp", or "tcp" with WG_TCP), CODEC ("jpeg", or "h264": the camera as two H.264
+# streams, deploy/config/server_sim_h264.pbtxt, VIDEO_HZ then 30 by default and observers
+# read the stream), PILOT_VIDEO ("direct", or "relay": the pilot takes its video through the
+# relay, operator_client --video-via-relay, so that the robot's uplink carries one copy; needs
+# VIA=relay), SOURCE ("sim": the simulator renders the cameras during the run; "recorded": a
+# moving session of the simulator recorded once on loopback before the runs, 20 s at
+# VIDEO_HZ, replayed in a loop with --replay-sensors, so no scene is rendered during the runs),
+# KEEP_WORK=1 keeps logs and traces. Prints RESULT
 # lines (key=value: run, what, then the row's values, or failed=overlay|never_drove) for the
 # test wrapper and soak_bench.sh; with TRANSPORT=tcp also udp_blocked (a probe
 # datagram dropped by NAT A: 1) and endpoints_not_tunnel (peers the hub's WireGuard saw at an
@@ -80,10 +87,23 @@ pre_s=${PRE_S:-4}
 post_s=${POST_S:-15}
 speed=${SPEED:-0.2}
 fresh_ms=${FRESH_MS:-200}
-video_hz=${VIDEO_HZ:-15}
+codec=${CODEC:-jpeg}
+case "$codec" in
+  jpeg) video_hz=${VIDEO_HZ:-15}; base_config=server_sim.pbtxt ;;
+  h264) video_hz=${VIDEO_HZ:-30}; base_config=server_sim_h264.pbtxt ;;
+  *) echo "nat_bench: CODEC must be jpeg or h264" >&2; exit 2 ;;
+esac
 video_quality=${VIDEO_QUALITY:-60}
 observers=${OBSERVERS-obs1 obs2}
 via=${VIA:-relay}
+pilot_video=${PILOT_VIDEO:-direct}
+case "$pilot_video" in
+  direct) ;;
+  relay) [ "$via" = relay ] || { echo "nat_bench: PILOT_VIDEO=relay needs VIA=relay" >&2; exit 2; } ;;
+  *) echo "nat_bench: PILOT_VIDEO must be direct or relay" >&2; exit 2 ;;
+esac
+source_kind=${SOURCE:-sim}
+[[ "$source_kind" =~ ^(sim|recorded)$ ]] || { echo "nat_bench: SOURCE must be sim or recorded" >&2; exit 2; }
 secure=${SECURE:-1}
 transport=${TRANSPORT:-udp}
 case "$transport" in
@@ -122,7 +142,7 @@ trap "exit 1" INT TERM
 sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" \
     -e "s|jpeg_quality: [0-9]*|jpeg_quality: $video_quality|" \
     -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
-    "$src/deploy/config/server_sim.pbtxt" > "$work/server.pbtxt"
+    "$src/deploy/config/$base_config" > "$work/server.pbtxt"
 # The Internet recipe's video settings (docs/networking.md): repairs about once per round trip.
 echo "dds { video_repair_period_ms: ${REPAIR_MS:-250}${WINDOW:+ video_window_pairs: $WINDOW} }" >> "$work/server.pbtxt"
 
@@ -132,6 +152,26 @@ wait_for() {
   for i in $(seq "$2"); do eval "$1" && return 0; sleep 0.1; done
   return 1
 }
+
+# SOURCE=recorded: 20 s of the simulator with a pilot driving a curve (the whole picture
+# moves), recorded on loopback before the runs; every run replays it in a loop.
+replay=()
+if [ "$source_kind" = recorded ]; then
+  record_domain=$((10 + $$ % 80))
+  sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" \
+      -e "s|jpeg_quality: [0-9]*|jpeg_quality: 90|" \
+      -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
+      "$src/deploy/config/server_sim.pbtxt" > "$work/record.pbtxt"
+  "$robot_server" --domain "$record_domain" --config "$work/record.pbtxt" \
+    --record "$work/source.mrec" --duration 24 > "$work/record_server.log" 2>&1 &
+  record_pid=$!
+  xvfb-run -a "$operator_client" --headless --domain "$record_domain" --id operator \
+    --role pilot --duration 22 --drive 0.25,0.35 --no-hud \
+    --calibration "$src/deploy/config/calibration_sim.pbtxt" > "$work/record_client.log" 2>&1 || true
+  wait "$record_pid" || true
+  [ -s "$work/source.mrec" ] || { echo "nat_bench: recording the source failed" >&2; cat "$work/record_server.log" >&2; exit 1; }
+  replay=(--replay-sensors "$work/source.mrec" --loop)
+fi
 
 # Brings the topology and the overlay up for one run into directory $1.
 overlay_up() {
@@ -237,7 +277,8 @@ run_one() {  # index, outage seconds or "readdress"
   }
   local ov="$run/overlay"
   ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
-    --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" --trace "$run/server.csv" \
+    --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" "${replay[@]}" \
+    --trace "$run/server.csv" \
     >"$run/server.log" 2>&1 &
   robot_pid=$!; pids+=("$robot_pid")
   local n=${what//[!0-9]/}; n=${n:-0}
@@ -246,7 +287,8 @@ run_one() {  # index, outage seconds or "readdress"
   if [ "$via" = relay ]; then
     obs_domain=$((domain + 1))
     ip netns exec "${prefix}_hub" "$mostar_relay" --dds-profile "$ov/hub.dds.xml" "${insecure[@]}" \
-      --robot-domain "$domain" --observer-domain "$obs_domain" >"$run/relay.log" 2>&1 &
+      --robot-domain "$domain" --observer-domain "$obs_domain" \
+      --video-repair-period-ms "${REPAIR_MS:-250}" >"$run/relay.log" 2>&1 &
     pids+=($!)
   fi
   local relay_pid=${pids[-1]}
@@ -259,8 +301,10 @@ run_one() {  # index, outage seconds or "readdress"
   [[ "$observers" != *obs1* ]] || probe1=${pids[-1]}
   [[ "$observers" != *obs2* ]] || probe2=${pids[-1]}
   [[ "$observers" != *"obs1 obs2"* ]] || probe1=${pids[-2]}
+  local video_via=()
+  [ "$pilot_video" != relay ] || video_via=(--video-via-relay --video-domain "$obs_domain")
   ip netns exec "${prefix}_pilot" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" \
-    "$operator_client" --headless --domain "$domain" --dds-profile "$ov/pilot.dds.xml" \
+    "$operator_client" --headless --domain "$domain" --dds-profile "$ov/pilot.dds.xml" "${video_via[@]}" \
     "${insecure[@]}" --id operator --role pilot --duration "$total" --drive "$speed,0" \
     --calibration "$src/deploy/config/calibration_sim.pbtxt" --trace "$run/client.csv" \
     >"$run/client.log" 2>&1 &

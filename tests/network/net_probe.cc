@@ -12,6 +12,7 @@
 //          pongs=N command_writer=ok|refused|none measured_s=.. estops_sent=N
 //          estop_seen_after_s=S|no releases_sent=N robot_estop=engaged|clear
 //          scan_beams=MIN..MAX (beams per scan received; -1 before the first)
+//          video_frames=N video_gaps=N (the H.264 stream: its frames count as left and right)
 // and with --samples FILE one line per sample: topic,receive_ns,stamp_ns.
 //
 // --try-command-writer asks DDS for a cmd_vel writer (without publishing), to check that DDS
@@ -165,6 +166,19 @@ int Main(int argc, char** argv) {
       p, topics::kCameraRight, Stream::kVideo, [&](const dds::wire::CompressedImage& m) {
         recorder.Add("right", dds::FromIdl(m.header().stamp()));
       });
+  // The H.264 stream (a robot whose camera codec is H264): each frame is a pair, recorded as
+  // "left" and "right" like the JPEG eyes; AU numbers that jump are gaps.
+  std::atomic<uint64_t> video_frames{0}, video_gaps{0}, last_video_sequence{0};
+  dds::Reader<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType> video(
+      p, topics::kCameraStereoVideo, dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
+      dds::kWithWriter, [&](const dds::wire::StereoVideoFrame& m, const dds::WriterId&) {
+        const Time stamp = dds::FromIdl(m.stamp());
+        recorder.Add("left", stamp);
+        recorder.Add("right", stamp);
+        ++video_frames;
+        const uint64_t last = last_video_sequence.exchange(m.sequence_number());
+        if (last != 0 && m.sequence_number() != last + 1) ++video_gaps;
+      });
   dds::Reader<sensor_msgs::msg::dds_::LaserScan_PubSubType> scan(
       p, topics::kScan, Stream::kSensor, [&](const dds::wire::LaserScan& m) {
         recorder.Add("scan", dds::FromIdl(m.header().stamp()));
@@ -202,10 +216,9 @@ int Main(int argc, char** argv) {
         p, topics::kClockPing, dds::InPartition(dds::WriterQos(Stream::kControl), partition));
   }
   const std::vector<std::pair<const char*, bool>> endpoints = {
-      {"left", left.ok()},     {"right", right.ok()},
-      {"scan", scan.ok()},     {"odom", odom.ok()},
-      {"health", health.ok()}, {"lease", lease.ok()},
-      {"pong", pong.ok()},     {"ping", !ping_writer || ping_writer->ok()}};
+      {"left", left.ok()},   {"right", right.ok()}, {"video", video.ok()},
+      {"scan", scan.ok()},   {"odom", odom.ok()},   {"health", health.ok()},
+      {"lease", lease.ok()}, {"pong", pong.ok()},   {"ping", !ping_writer || ping_writer->ok()}};
   for (const auto& [name, ok] : endpoints) {
     if (!ok) {
       std::cerr << "net_probe: cannot create the " << name << " endpoint\n";
@@ -266,13 +279,14 @@ int Main(int argc, char** argv) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(estop_writer ? 50 : 200));
   }
-  char line[1024];
+  char line[1280];
   std::snprintf(line, sizeof(line),
                 "probe: left=%d right=%d scan=%d odom=%d health=%d lease=%d "
                 "left_age_p50_ms=%.1f left_age_p95_ms=%.1f scan_age_p50_ms=%.1f "
                 "scan_age_p95_ms=%.1f ping_oneway_p50_ms=%.1f ping_rtt_p50_ms=%.1f pongs=%d "
                 "command_writer=%s measured_s=%.2f estops_sent=%d estop_seen_after_s=%s "
-                "releases_sent=%d robot_estop=%s scan_beams=%d..%d",
+                "releases_sent=%d robot_estop=%s scan_beams=%d..%d video_frames=%llu "
+                "video_gaps=%llu",
                 recorder.Count("left"), recorder.Count("right"), recorder.Count("scan"),
                 recorder.Count("odom"), recorder.Count("health"), recorder.Count("lease"),
                 recorder.Percentile("left", 0.5), recorder.Percentile("left", 0.95),
@@ -280,7 +294,9 @@ int Main(int argc, char** argv) {
                 recorder.Percentile("ping_oneway", 0.5), recorder.Percentile("ping_rtt", 0.5),
                 recorder.Count("ping_rtt"), command_writer.c_str(), recorder.MeasuredSeconds(),
                 estops_sent, estop_seen.c_str(), releases_sent, robot_estop ? "engaged" : "clear",
-                scan_beams_min.load(), scan_beams_max.load());
+                scan_beams_min.load(), scan_beams_max.load(),
+                static_cast<unsigned long long>(video_frames.load()),
+                static_cast<unsigned long long>(video_gaps.load()));
   std::cout << line << std::endl;
   return 0;
 }
