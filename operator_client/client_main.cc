@@ -322,11 +322,14 @@ int Run(int argc, char** argv) {
     }
   }
   const ReceiverStats stats = video.Stats();
+  // The whole run's average (discovery included), beside the last 2 s window's rate.
+  const double run_s = std::max(1e-3, ToSeconds(clock->SteadyNow() - start));
   std::cout << "report: rendered_frames=" << console.rendered_pairs()
             << " pairs_decoded=" << stats.pairs_decoded << " images=" << stats.images
             << " broken_images=" << stats.broken_images << " scans=" << robot.Snapshot().scans
             << " commands_sent=" << commands.commands_sent()
-            << " pair_rate_hz=" << stats.pair_rate_hz
+            << " pair_rate_hz_last_2s=" << stats.pair_rate_hz
+            << " pairs_per_s_run=" << static_cast<double>(stats.pairs_decoded) / run_s
             << " display_age_ms_p50=" << console.DisplayAgePercentileMs(50)
             << " display_age_ms_p95=" << console.DisplayAgePercentileMs(95)
             << " frame_time_ms_p50=" << console.FrameTimePercentileMs(50)

@@ -32,7 +32,7 @@ for source in test_pattern sim sim_1280; do
     kill -TERM "$server"; wait "$server" || true
     get() { echo "$report" | tr ' ' '\n' | grep "^$1=" | cut -d= -f2; }
     printf '| %s | %s | %.1f | %.1f | %.1f | %.1f | %.1f |\n' "$source" "$display" \
-      "$(get pair_rate_hz)" "$(get display_age_ms_p50)" "$(get display_age_ms_p95)" \
+      "$(get pair_rate_hz_last_2s)" "$(get display_age_ms_p50)" "$(get display_age_ms_p95)" \
       "$(get frame_time_ms_p50)" "$(get frame_time_ms_p95)"
     reports+=("$report")
     labels+=("$source $display")

@@ -52,7 +52,7 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
   // Link health: control-path ping loss and the age of the last sample of each stream.
   auto age_ms = [now](SteadyTime t) { return t == SteadyTime() ? -1.0 : ToSeconds(now - t) * 1e3; };
   const std::string loss =
-      robot.ping_loss < 0 ? std::string("?")
+      robot.ping_loss < 0 ? std::string("n/a (no ping replies yet; none come through mostar_relay)")
                           : std::to_string(static_cast<int>(robot.ping_loss * 100 + 0.5)) + " %";
   ImGui::Text("link: ping loss %s  last video %.0f  scan %.0f  odom %.0f  health %.0f ms",
               loss.c_str(), status.has_pair ? age_ms(status.pair_received) : -1.0,
