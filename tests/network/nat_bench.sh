@@ -38,7 +38,8 @@
 # Environment: RUNS ("5": outage seconds or "readdress", one run each; e.g. "5 5 30 readdress"),
 # OBSERVERS ("obs1 obs2": which observers run), VIA ("relay": observers watch through
 # mostar_relay on the hub, so the robot's uplink carries two copies of the video, the pilot's
-# and the relay's, whatever the number of observers; "direct": every observer subscribes to the
+# and the relay's, whatever the number of observers, or one with PILOT_VIDEO=relay; "direct":
+# every observer subscribes to the
 # robot), SECURE (1: DDS Security on top of the overlay, made by make_pki.sh; 0: off),
 # PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
 # REPAIR_MS (250: the server's dds.video_repair_period_ms), WINDOW (the server's default:
