@@ -22,6 +22,7 @@
 #include "operator_client/net/client_inbox.h"
 #include "operator_client/net/operator_node.h"
 #include "operator_client/net/robot_state.h"
+#include "operator_client/net/video_relay_options.h"
 #include "operator_client/render/stereo_compositor.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/operator_console.h"
@@ -159,12 +160,10 @@ int Run(int argc, char** argv) {
   // The camera streams through mostar_relay: a second participant, same identity, on the
   // relay's observer domain.
   std::unique_ptr<dds::Participant> video_participant;
-  dds::ParticipantOptions video_dds_options = dds_options;
+  dds::ParticipantOptions video_dds_options;
   if (video_via_relay) {
-    video_dds_options.domain_id = video_domain >= 0 ? video_domain : dds_options.domain_id + 1;
-    video_dds_options.xml_participant_profile = "operator_video";
-    if (video_dds_options.domain_id == dds_options.domain_id || video_dds_options.domain_id > 232) {
-      std::cerr << "operator_client: --video-domain must differ from --domain and be at most 232\n";
+    if (!VideoThroughRelayOptions(dds_options, video_domain, &video_dds_options, &error)) {
+      std::cerr << "operator_client: " << error << "\n";
       return 2;
     }
     video_participant = dds::Participant::Create(video_dds_options, &error);
