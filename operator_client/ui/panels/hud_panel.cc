@@ -49,10 +49,11 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
                 ToSeconds(robot.clock.responder_minus_requester) * 1e3,
                 ToSeconds(robot.clock.round_trip) * 1e3);
   }
-  // Link health: control-path ping loss and the age of the last sample of each stream.
+  // Link health: control-path ping loss ("n/a" until pings are answered: never through
+  // mostar_relay, docs/operator.md) and the age of the last sample of each stream.
   auto age_ms = [now](SteadyTime t) { return t == SteadyTime() ? -1.0 : ToSeconds(now - t) * 1e3; };
   const std::string loss =
-      robot.ping_loss < 0 ? std::string("n/a (no ping replies yet; none come through mostar_relay)")
+      robot.ping_loss < 0 ? std::string("n/a")
                           : std::to_string(static_cast<int>(robot.ping_loss * 100 + 0.5)) + " %";
   ImGui::Text("link: ping loss %s  last video %.0f  scan %.0f  odom %.0f  health %.0f ms",
               loss.c_str(), status.has_pair ? age_ms(status.pair_received) : -1.0,
