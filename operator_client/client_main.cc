@@ -115,6 +115,11 @@ int Run(int argc, char** argv) {
                  "record everything received (and the commands sent) to this file");
   app.add_option("--log-level", log_level, "debug | info | warning | error")
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
+  bool check_config = false;
+  app.add_flag("--check-config", check_config,
+               "check the configuration, calibration, DDS profile (certificates, addresses), "
+               "client id and display, print each problem with its fix, and exit: 0 when all is "
+               "well");
   CLI11_PARSE(app, argc, argv);
   flags.client_id_given = id_option->count() > 0;
   LogLevel level;
@@ -122,6 +127,23 @@ int Run(int argc, char** argv) {
   SetLogLevel(level);
 
   std::string error;
+  dds::ParticipantOptions dds_options;
+  dds_options.domain_id = domain >= 0 ? domain : dds::DomainIdFromEnvironment(0);
+  dds_options.profile = dds_profile;
+  dds_options.name = "operator";
+  dds_options.insecure = flags.insecure;
+  dds::ParticipantOptions video_dds_options;
+  if (video_via_relay &&
+      !VideoThroughRelayOptions(dds_options, video_domain, &video_dds_options, &error)) {
+    std::cerr << "operator_client: " << error << "\n";
+    return 2;
+  }
+  if (check_config) {
+    ConfigReport report;
+    CheckConsoleConfig(config_path, flags, dds_options,
+                       video_via_relay ? &video_dds_options : nullptr, &report);
+    return report.Print("operator_client", std::cout);
+  }
   ClientConfig config;
   if (!config_path.empty() && !LoadTextConfig(config_path, &config, &error)) {
     std::cerr << "operator_client: bad configuration: " << error << "\n";
@@ -147,11 +169,6 @@ int Run(int argc, char** argv) {
     return 2;
   }
 
-  dds::ParticipantOptions dds_options;
-  dds_options.domain_id = domain >= 0 ? domain : dds::DomainIdFromEnvironment(0);
-  dds_options.profile = dds_profile;
-  dds_options.name = "operator";
-  dds_options.insecure = flags.insecure;
   auto participant = dds::Participant::Create(dds_options, &error);
   if (!participant) {
     std::cerr << "operator_client: " << error << "\n";
@@ -160,12 +177,7 @@ int Run(int argc, char** argv) {
   // The camera streams through mostar_relay: a second participant, same identity, on the
   // relay's observer domain.
   std::unique_ptr<dds::Participant> video_participant;
-  dds::ParticipantOptions video_dds_options;
   if (video_via_relay) {
-    if (!VideoThroughRelayOptions(dds_options, video_domain, &video_dds_options, &error)) {
-      std::cerr << "operator_client: " << error << "\n";
-      return 2;
-    }
     video_participant = dds::Participant::Create(video_dds_options, &error);
     if (!video_participant) {
       std::cerr << "operator_client: video through the relay: " << error << "\n";

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
+#include "common/config/config_loader.h"
 #include "common/config/config_paths.h"
+#include "common/dds/profile_check.h"
 #include "common/identity/client_id.h"
 #include "common/math/calibration_io.h"
 #include "operator_client/render/display_mode.h"
@@ -44,7 +47,7 @@ bool SelfCalibrationFromConfig(const SelfCalibrationConfig& config,
 bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& config_dir,
                               ui::ConsoleOptions* options, std::string* error) {
   if (config.has_calibration_profile()) {
-    const std::string path = ResolveRelativeTo(config.calibration_profile(), config_dir);
+    const std::string path = ResolveConfigPath(config.calibration_profile(), config_dir);
     if (!math::LoadCalibrationProfile(path, &options->calibration, error)) return false;
     options->calibration_path = path;
   }
@@ -162,6 +165,46 @@ bool ResolveClientId(const ClientFlags& flags, bool secure, const std::string& c
   }
   *client_id = certificate_cn;
   return true;
+}
+
+void CheckConsoleConfig(const std::string& config_path, const ClientFlags& flags,
+                        const dds::ParticipantOptions& dds,
+                        const dds::ParticipantOptions* video_dds, ConfigReport* report) {
+  ClientConfig config;
+  std::string error;
+  if (!config_path.empty()) {
+    if (!LoadTextConfig(config_path, &config, &error)) {
+      report->Fail("the configuration does not load: " + error,
+                   "correct the line named (schema: operator_client/client_config.proto; "
+                   "examples in " +
+                       InstalledConfigDir() + ")");
+      return;
+    }
+    report->Ok("configuration " + config_path + " loads");
+  }
+  ui::ConsoleOptions options;
+  if (!ConsoleOptionsFromConfig(config, DirectoryOf(config_path), &options, &error) ||
+      !ApplyClientFlags(flags, config, &options, &error)) {
+    report->Fail(error, "correct the configuration key or flag named");
+  } else {
+    report->Ok("console options valid (calibration, AR, vision, display)");
+  }
+  const dds::ProfileCheck profile = dds::CheckDdsProfile(dds, "", report);
+  if (video_dds != nullptr) dds::CheckDdsProfile(*video_dds, "", report);
+  std::string client_id;
+  if (profile.secure || !profile.certificate_path.empty()) {
+    if (ResolveClientId(flags, profile.secure, profile.own_client_id.value_or(""), &client_id,
+                        &error)) {
+      report->Ok("client id '" + client_id + "' (the certificate's name)");
+    } else {
+      report->Fail(error, "leave --id out: with DDS Security the certificate names the client");
+    }
+  }
+  if (!flags.headless && std::getenv("DISPLAY") == nullptr &&
+      std::getenv("WAYLAND_DISPLAY") == nullptr) {
+    report->Fail("no display (neither DISPLAY nor WAYLAND_DISPLAY is set) for the window",
+                 "run it in a desktop session, or with --headless under xvfb-run");
+  }
 }
 
 }  // namespace mostar::client

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "common/config/config_report.h"
+#include "common/dds/participant.h"
 #include "operator_client/client_config.pb.h"
 #include "operator_client/ui/operator_console.h"
 
@@ -44,5 +46,13 @@ ui::WindowOptions WindowOptionsFor(const ClientFlags& flags, const ui::ConsoleOp
 // the CN is refused. False with a message.
 bool ResolveClientId(const ClientFlags& flags, bool secure, const std::string& certificate_cn,
                      std::string* client_id, std::string* error);
+
+// operator_client --check-config: the configuration file at `config_path` (may be empty) with
+// its calibration, the flags over it, the DDS profile `dds` and, with --video-via-relay, the
+// relay's `video_dds` (certificates, addresses: dds::CheckDdsProfile), the client id against
+// the certificate, and a display for a window. Results go to `report`.
+void CheckConsoleConfig(const std::string& config_path, const ClientFlags& flags,
+                        const dds::ParticipantOptions& dds,
+                        const dds::ParticipantOptions* video_dds, ConfigReport* report);
 
 }  // namespace mostar::client

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "common/config/config_loader.h"
+#include "common/testing/subprocess.h"
 
 namespace mostar::client {
 namespace {
@@ -234,6 +237,45 @@ TEST(ResolveClientIdTest, WithSecurityAnotherIdOrNoCnIsRefused) {
   error.clear();
   EXPECT_FALSE(ResolveClientId(ClientFlags{}, true, "", &id, &error));
   EXPECT_NE(error.find("no CN"), std::string::npos) << error;
+}
+
+// --check-config: the shipped simulator configuration passes; a certificate that names another
+// client than --id, and a missing display for a window, are each a problem with its fix.
+TEST(CheckConsoleConfigTest, TheShippedConfigurationPassesAndMistakesAreNamed) {
+  const std::string config =
+      std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/config/client_sim.pbtxt";
+  ClientFlags flags;
+  flags.headless = true;
+  dds::ParticipantOptions dds;
+  dds.name = "operator";
+  ConfigReport report;
+  CheckConsoleConfig(config, flags, dds, nullptr, &report);
+  for (const auto& p : report.problems()) ADD_FAILURE() << p.what;
+
+  const std::string dir = mostar::testing::MakeTempDir("console_check");
+  const std::string make_pki = std::string(MOSTAR_TEST_SOURCE_DIR) +
+                               "/deploy/security/make_pki.sh " + dir +
+                               "/pki --robot robot --pilot alice >/dev/null 2>&1";
+  ASSERT_EQ(std::system(make_pki.c_str()), 0);
+  dds.profile = dir + "/pki/alice.xml";
+  flags.client_id = "bob";
+  flags.client_id_given = true;
+  ConfigReport wrong_id;
+  CheckConsoleConfig(config, flags, dds, nullptr, &wrong_id);
+  EXPECT_TRUE(wrong_id.HasProblem("leave --id out")) << wrong_id.problems().size();
+
+  flags.client_id_given = false;
+  flags.headless = false;
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved = display != nullptr ? display : "";
+  unsetenv("DISPLAY");
+  ConfigReport no_display;
+  CheckConsoleConfig(config, flags, dds, nullptr, &no_display);
+  if (!saved.empty()) setenv("DISPLAY", saved.c_str(), 1);
+  if (std::getenv("WAYLAND_DISPLAY") == nullptr) {
+    EXPECT_TRUE(no_display.HasProblem("no display"));
+  }
+  EXPECT_FALSE(no_display.HasProblem("--id"));  // alice's certificate names alice
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "common/config/config_loader.h"
 #include "common/config/config_paths.h"
+#include "common/config/config_report.h"
 #include "common/dds/domain.h"
 #include "common/dds/participant.h"
 #include "common/log/log.h"
@@ -28,6 +29,7 @@
 #include "robot_server/drive/drive_config.h"
 #include "robot_server/node/robot_node.h"
 #include "robot_server/replay/replay_publisher.h"
+#include "robot_server/server_check.h"
 #include "robot_server/server_config.pb.h"
 #include "robot_server/server_options.h"
 
@@ -57,10 +59,31 @@ int Run(int argc, char** argv) {
   ServerConfig config;
   std::string error;
   if (!flags.config_path.empty() && !LoadTextConfig(flags.config_path, &config, &error)) {
+    if (flags.check_config) {
+      ConfigReport report;
+      report.Fail("the configuration does not load: " + error,
+                  "correct the line named (schema: robot_server/server_config.proto; examples "
+                  "in " +
+                      InstalledConfigDir() + ")");
+      return report.Print("robot_server", std::cout);
+    }
     return Fail(2, "bad configuration: " + error);
   }
   const std::string config_dir = flags.config_path.empty() ? "" : DirectoryOf(flags.config_path);
   ApplyFlags(flags, &config);
+  dds::ParticipantOptions dds_options;
+  dds_options.domain_id =
+      flags.domain >= 0 ? flags.domain : dds::DomainIdFromEnvironment(config.dds().domain_id());
+  dds_options.profile = flags.dds_profile.empty() ? config.dds().profile() : flags.dds_profile;
+  dds_options.name = "robot";
+  dds_options.tcp_user_timeout_ms = config.dds().tcp_user_timeout_ms();
+  dds_options.insecure = config.dds().insecure();
+  if (flags.check_config) {
+    ConfigReport report;
+    if (!flags.config_path.empty()) report.Ok("configuration " + flags.config_path + " loads");
+    CheckServerConfig(config, config_dir, dds_options, &report);
+    return report.Print("robot_server", std::cout);
+  }
   drive::DriveSettings settings;
   if (!drive::DriveSettingsFromProto(config.drive(), &settings, &error)) {
     return Fail(2, "bad configuration: drive: " + error);
@@ -78,13 +101,6 @@ int Run(int argc, char** argv) {
     return Fail(2, error);
   }
 
-  dds::ParticipantOptions dds_options;
-  dds_options.domain_id =
-      flags.domain >= 0 ? flags.domain : dds::DomainIdFromEnvironment(config.dds().domain_id());
-  dds_options.profile = flags.dds_profile.empty() ? config.dds().profile() : flags.dds_profile;
-  dds_options.name = "robot";
-  dds_options.tcp_user_timeout_ms = config.dds().tcp_user_timeout_ms();
-  dds_options.insecure = config.dds().insecure();
   // Started before its network (the WireGuard overlay's address) is up: wait for it rather than
   // run undiscoverable; within mostar-robot-server.service's TimeoutStartSec (60 s), after which
   // systemd restarts the server and it waits again.

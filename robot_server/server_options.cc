@@ -106,6 +106,10 @@ void AddServerFlags(CLI::App* app, ServerFlags* f) {
   app->add_option("--state-dir", f->state_dir,
                   "keep the e-stop latch in this directory (default: state_dir of the config, "
                   "/var/lib/mostar for the hardware source)");
+  app->add_flag("--check-config", f->check_config,
+                "check the configuration, the files and devices it names, the role table and "
+                "the DDS profile (certificates, addresses), print each problem with its fix, "
+                "and exit: 0 when all is well, 1 otherwise; opens no device, starts no DDS");
 }
 
 }  // namespace mostar::server

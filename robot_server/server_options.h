@@ -29,8 +29,9 @@ struct ServerFlags {
   bool replay_loop = false;
   bool replay_paused = false;
   std::string replay_sensors;
-  std::string state_dir;  // --state-dir: overrides state_dir
-  bool insecure = false;  // --insecure: sets dds.insecure
+  std::string state_dir;      // --state-dir: overrides state_dir
+  bool insecure = false;      // --insecure: sets dds.insecure
+  bool check_config = false;  // --check-config: report problems and exit (server_check.h)
 };
 
 // robot_server's command-line flags into `flags`.

@@ -19,6 +19,18 @@ std::string ResolveRelativeTo(const std::string& path, const std::string& base_d
   return base_dir + "/" + path;
 }
 
+std::string InstalledConfigDir() { return MOSTAR_INSTALLED_CONFIG_DIR; }
+
+std::string ResolveConfigPath(const std::string& path, const std::string& config_dir,
+                              const std::string& fallback_dir) {
+  const std::string first = ResolveRelativeTo(path, config_dir);
+  if (path.empty() || path[0] == '/' || fallback_dir.empty() || access(first.c_str(), F_OK) == 0) {
+    return first;
+  }
+  const std::string fallback = ResolveRelativeTo(path, fallback_dir);
+  return access(fallback.c_str(), F_OK) == 0 ? fallback : first;
+}
+
 std::string AbsoluteFromWorkingDirectory(const std::string& path) {
   if (path.empty() || path[0] == '/') return path;
   char cwd[PATH_MAX];

@@ -56,7 +56,10 @@
 #                                  identity_ca.cert.pem, permissions_ca.cert.pem,
 #                                  identity_ca.crl.pem, governance.p7s, NAME.cert.pem,
 #                                  NAME.key.pem (0640), NAME.permissions.p7s, NAME.xml;
-#                                  copy it to INSTALL_DIR on that host
+#                                  the robot's also `roles` (every certificate's name and
+#                                  role, read by robot_server --check-config);
+#                                  copy it to INSTALL_DIR on that host (the robot's again
+#                                  after adding operators)
 # Never copy the CA keys (or OUT_DIR) to robots or operator computers.
 #
 # Grants (topics are DDS names, see common/dds/topics.h). cmd_vel, estop, control/request and
@@ -189,6 +192,23 @@ make_identity() {  # name [subject]
   rm -f "$1.csr.pem"
 }
 
+# The role of participant NAME: from OUT_DIR/roles, else read off its permissions (made before
+# roles were recorded): what it publishes tells.
+role_of() {
+  local role publishes
+  role=$(awk -v n="$1" '$1 == n { print $2 }' roles 2>/dev/null || true)
+  if [ -z "$role" ]; then
+    publishes=$(sed -n '/<publish>/,/<\/publish>/p' "$1.permissions.xml")
+    case $publishes in
+      *rt/mostar/clock/pong*) role=robot ;;
+      *rt/mostar/cmd_vel*) role=pilot ;;
+      *rt/mostar/scan*) role=relay ;;
+      *) role=observer ;;
+    esac
+  fi
+  echo "$role"
+}
+
 # --- bundles: what each host needs, nothing else ---
 make_bundles() {
   local p name dir f
@@ -203,6 +223,11 @@ make_bundles() {
       cp "$f" "$dir/$f"; chmod 0644 "$dir/$f"
     done
     cp "$name.key.pem" "$dir/$name.key.pem"; chmod 0640 "$dir/$name.key.pem"
+    # The robot's bundle also lists every certificate's name and role, so that
+    # robot_server --check-config can compare its role table with them.
+    if [ "$(role_of "$name")" = robot ] && [ -f roles ]; then
+      cp roles "$dir/roles"; chmod 0644 "$dir/roles"
+    fi
     chmod 0755 hosts "$dir"
     [ -z "$owner" ] || chown -R "$owner" "$dir"
   done
@@ -358,22 +383,6 @@ EOF
   # Each participant's role, for --update-permissions.
   { grep -v "^$1 " roles 2>/dev/null || true; echo "$1 $2"; } > roles.new
   mv roles.new roles
-}
-# The role of participant NAME: from OUT_DIR/roles, else read off its permissions (made before
-# roles were recorded): what it publishes tells.
-role_of() {
-  local role publishes
-  role=$(awk -v n="$1" '$1 == n { print $2 }' roles 2>/dev/null || true)
-  if [ -z "$role" ]; then
-    publishes=$(sed -n '/<publish>/,/<\/publish>/p' "$1.permissions.xml")
-    case $publishes in
-      *rt/mostar/clock/pong*) role=robot ;;
-      *rt/mostar/cmd_vel*) role=pilot ;;
-      *rt/mostar/scan*) role=relay ;;
-      *) role=observer ;;
-    esac
-  fi
-  echo "$role"
 }
 
 if [ "$update_permissions" = 1 ]; then

@@ -37,9 +37,11 @@
 #include <thread>
 #include <vector>
 
+#include "common/config/config_report.h"
 #include "common/dds/conversions.h"
 #include "common/dds/endpoint.h"
 #include "common/dds/participant.h"
+#include "common/dds/profile_check.h"
 #include "common/dds/topics.h"
 #include "common/identity/client_id.h"
 #include "common/identity/sender_partition.h"
@@ -201,6 +203,10 @@ int Main(int argc, char** argv) {
                "allow a network DDS profile without DDS Security (docs/security.md)");
   app.add_option("--log-level", log_level, "debug | info | warning | error")
       ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
+  bool check_config = false;
+  app.add_flag("--check-config", check_config,
+               "check the DDS profile of both sides (participant profiles, certificates, "
+               "addresses), print each problem with its fix, and exit: 0 when all is well");
   CLI11_PARSE(app, argc, argv);
   LogLevel level = LogLevel::kINFO;
   ParseLogLevel(log_level, &level);
@@ -219,6 +225,12 @@ int Main(int argc, char** argv) {
     std::cerr << "mostar_relay: robot and observer domains must differ (the relay would hear "
                  "its own output)\n";
     return 2;
+  }
+  if (check_config) {
+    ConfigReport report;
+    dds::CheckDdsProfile(robot_options, "mostar", &report);
+    if (profile != "loopback") dds::CheckDdsProfile(observer_options, "mostar", &report);
+    return report.Print("mostar_relay", std::cout);
   }
   std::string error;
   auto robot_side = dds::Participant::Create(robot_options, &error);

@@ -98,7 +98,7 @@ bool MakeSimDevices(const ServerConfig& config, const std::string& config_dir, c
     return false;
   }
   sim::proto::Scene scene;
-  if (!sim::LoadScene(ResolveRelativeTo(config.scene_file(), config_dir), &scene, error)) {
+  if (!sim::LoadScene(ResolveConfigPath(config.scene_file(), config_dir), &scene, error)) {
     return false;
   }
   if (!sim::ValidateSimConfig(config.sim(), "sim", error)) return false;
@@ -151,7 +151,7 @@ bool MakeHardwareDevices(const ServerConfig& config, const std::string& config_d
                                 config.camera().right_intrinsics_file()};
   for (int e = 0; e < 2 && !files[0].empty() && !files[1].empty(); ++e) {
     camera::CameraIntrinsics k;
-    if (!camera::LoadCameraIntrinsics(ResolveRelativeTo(files[e], config_dir), &k, error)) {
+    if (!camera::LoadCameraIntrinsics(ResolveConfigPath(files[e], config_dir), &k, error)) {
       return false;
     }
     const camera::StereoCameraInfo camera_info =
@@ -180,7 +180,7 @@ bool MakeReplayDevices(const ServerConfig& config, const std::string& config_dir
   // The options common to the replay devices; false (error set) when the file is unusable.
   auto replay_device = [&](const std::string& key, const std::string& file, double rate, bool loop,
                            replay::ReplayDeviceOptions* options) {
-    options->path = ResolveRelativeTo(file, config_dir);
+    options->path = ResolveConfigPath(file, config_dir);
     options->clock = clock;
     auto it = timelines.find(options->path);
     if (it != timelines.end()) {
