@@ -34,6 +34,8 @@ PACKAGES=(
   # the Internet deployment: NAT routers in the tests, the WireGuard overlay (user-space
   # wireguard-go where the kernel has no WireGuard module)
   nftables wireguard-tools wireguard-go
+  # the Debian packages (deploy/package.sh: dpkg-shlibdeps) and their test in a fresh root
+  dpkg-dev lintian debootstrap
 )
 
 missing=()

@@ -336,6 +336,7 @@ int Run(int argc, char** argv) {
   // The whole run's average (discovery included), beside the last 2 s window's rate.
   const double run_s = std::max(1e-3, ToSeconds(clock->SteadyNow() - start));
   std::cout << "report: rendered_frames=" << console.rendered_pairs()
+            << " scripted_rearms=" << console.scripted_rearms()
             << " pairs_decoded=" << stats.pairs_decoded << " images=" << stats.images
             << " broken_images=" << stats.broken_images << " scans=" << robot.Snapshot().scans
             << " commands_sent=" << commands.commands_sent()

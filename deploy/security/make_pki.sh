@@ -87,7 +87,7 @@ out=$1; shift
 robot=robot
 robot_given=0
 pilots=(); observers=(); relays=()
-here=$(cd "$(dirname "$0")" && pwd)
+here=$(cd "$(dirname "$(readlink -f "$0")")" && pwd)  # also through /usr/bin links
 profile="$here/../dds/lan.xml"
 profile_dir=""
 install_dir=""

@@ -57,7 +57,7 @@ die() { echo "make_overlay.sh: $*" >&2; exit 1; }
 [ $# -ge 1 ] || usage
 case "$1" in -h|--help) usage ;; esac
 out=$1; shift
-here=$(cd "$(dirname "$0")" && pwd)
+here=$(cd "$(dirname "$(readlink -f "$0")")" && pwd)  # also through /usr/bin links
 endpoint="" subnet=10.77.0 mtu=1420 keepalive=15 robot=robot
 template="$here/../dds/overlay.xml"
 tcp_hub="" tunnel_port=51821

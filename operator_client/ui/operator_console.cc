@@ -75,7 +75,9 @@ void OperatorConsole::HandleInput() {
   if (in.speed_up) mapper_.ScaleUp();
   if (in.speed_down) mapper_.ScaleDown();
   if (scripted_drive_) {
-    drive_ = lease_.armed(clock_->SteadyNow()) ? *scripted_drive_ : DriveOutput{};
+    // A scripted drive re-arms by itself after the robot stopped driving (RearmGuide).
+    drive_ = lease_.armed(clock_->SteadyNow()) && !rearm_.hold_disarmed ? *scripted_drive_
+                                                                        : DriveOutput{};
   } else {
     drive_ = options_.pilot ? mapper_.Map(in.drive) : DriveOutput{};
   }
@@ -179,6 +181,11 @@ bool OperatorConsole::Frame() {
   {
     const client::RobotSnapshot snapshot = robot_->Snapshot();
     Send(lease_.Update(snapshot.lease, clock_->SteadyNow()));
+    const std::optional<WatchdogState> watchdog =
+        snapshot.health ? std::optional<WatchdogState>(snapshot.health->watchdog_state)
+                        : std::nullopt;
+    rearm_ = rearm_guide_.Update(lease_.holding(), watchdog, snapshot.last_health_received,
+                                 drive_.enable, scripted_drive_.has_value(), clock_->SteadyNow());
     AdoptRobotIntrinsics(snapshot);
     RefreshGeometry(snapshot);
   }
@@ -262,6 +269,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.drive_scale = mapper_.scale();
     hud.status_line = status_line_;
     hud.pending_estop = commands_->pending_estop();
+    hud.rearm_note = rearm_.hud_text;
     hud.sonar_echoes = sonar.echoes;
     hud.sonar_unseen = sonar.unseen;
     hud.overlay_note = MotionOverlayNote(motion_);

@@ -36,6 +36,7 @@
 #include "operator_client/ui/pair_capture.h"
 #include "operator_client/ui/pair_tracer.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
+#include "operator_client/ui/rearm_guide.h"
 #include "operator_client/ui/shown_pair_stats.h"
 #include "operator_client/ui/stereo_hint.h"
 #include "operator_client/ui/vision_settings.h"
@@ -94,6 +95,8 @@ class OperatorConsole {
   // The last composed frame that showed a new pair (BGR8), for --screenshot.
   const cv::Mat& last_frame() const { return last_frame_; }
   uint64_t rendered_pairs() const { return rendered_pairs_; }
+  // Re-arms of a scripted drive after the robot stopped driving (RearmGuide).
+  uint64_t scripted_rearms() const { return rearm_guide_.scripted_rearms(); }
   // Percentile (0..100) of the capture-to-display age and of the render time of frames that
   // showed a new pair, in ms; 0 when none.
   double DisplayAgePercentileMs(double percentile) const {
@@ -165,6 +168,8 @@ class OperatorConsole {
   std::optional<DriveOutput> scripted_drive_;
   DriveOutput drive_;
   LeaseClient lease_;
+  RearmGuide rearm_guide_;    // why driving stopped, and the re-arm of scripted drives
+  RearmGuide::Advice rearm_;  // as of the last frame
   IntrinsicsAdopter intrinsics_;
 
   // Each eye's image and display models (eye_geometry.h); the image models are shared with the

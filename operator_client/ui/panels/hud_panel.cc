@@ -105,6 +105,9 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
     ImGui::TextColored(ImVec4(1, 0.2f, 0.2f, 1), "e-stop %s sent, not yet confirmed by the robot",
                        *status.pending_estop ? "engage" : "release");
   }
+  if (!status.rearm_note.empty()) {
+    ImGui::TextColored(ImVec4(1, 0.5f, 0.1f, 1), "%s", status.rearm_note.c_str());
+  }
   if (status.pilot) {
     ImGui::Text("drive %s  v %.2f m/s  w %.2f rad/s  scale %.0f%%",
                 status.drive.enable ? "ON" : "off", status.drive.linear_mps,

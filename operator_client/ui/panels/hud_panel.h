@@ -29,6 +29,8 @@ struct HudStatus {
   std::string status_line;  // may be empty
   // An e-stop engagement (true) or release (false) sent and not yet reported by the robot.
   std::optional<bool> pending_estop;
+  // The robot stopped driving for this pilot and waits for a re-arm: why and what to do.
+  std::string rearm_note;
   // This client runs a network DDS profile without DDS Security (--insecure): a warning line.
   bool dds_security_off = false;
   // Sonar sectors of the shown overlay: echoes, and those the laser does not see.
