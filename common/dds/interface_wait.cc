@@ -47,4 +47,19 @@ std::vector<std::string> MissingAddresses(const std::vector<std::string>& wanted
   return out;
 }
 
+std::vector<std::string> AddressWatch::Check(bool* changed) {
+  if (wanted_.empty()) {
+    if (changed != nullptr) *changed = false;
+    return {};
+  }
+  return Check(LocalIpv4Addresses(), changed);
+}
+
+std::vector<std::string> AddressWatch::Check(const std::vector<std::string>& local, bool* changed) {
+  std::vector<std::string> missing = MissingAddresses(wanted_, local);
+  if (changed != nullptr) *changed = missing != last_missing_;
+  last_missing_ = missing;
+  return missing;
+}
+
 }  // namespace mostar::dds

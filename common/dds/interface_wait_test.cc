@@ -93,5 +93,22 @@ TEST(InterfaceWaitTest, AParticipantWaitsForItsWhitelistedAddressesThenNamesTheM
   EXPECT_NE(participant, nullptr) << error;
 }
 
+// The overlay going down and coming back under a running program: each change is reported once.
+TEST(InterfaceWaitTest, AnAddressWatchReportsEachChangeOnce) {
+  AddressWatch watch({"10.77.0.2", "127.0.0.1"});
+  bool changed = true;
+  EXPECT_TRUE(watch.Check({"127.0.0.1", "10.77.0.2"}, &changed).empty());
+  EXPECT_FALSE(changed);
+  EXPECT_EQ(watch.Check({"127.0.0.1"}, &changed), std::vector<std::string>{"10.77.0.2"});
+  EXPECT_TRUE(changed);
+  watch.Check({"127.0.0.1"}, &changed);
+  EXPECT_FALSE(changed);
+  EXPECT_TRUE(watch.Check({"10.77.0.2", "127.0.0.1"}, &changed).empty());
+  EXPECT_TRUE(changed);
+  AddressWatch none({});
+  EXPECT_TRUE(none.Check(&changed).empty());
+  EXPECT_FALSE(changed);
+}
+
 }  // namespace
 }  // namespace mostar::dds

@@ -194,6 +194,7 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
     p->security_off_ = true;
   }
   if (!p->SetUpSecurity(settings, &qos, error)) return nullptr;
+  p->address_watch_ = std::make_unique<AddressWatch>(WhitelistedAddresses(qos));
   for (const auto& transport : qos.transport().user_transports) {
     if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPTransportDescriptor>(transport)) {
       p->uses_tcp_ = true;
@@ -249,6 +250,25 @@ bool Participant::SetUpSecurity(const SecuritySettings& settings, fdds::DomainPa
   qos->user_data().data_vec(identity::AnnouncedCertificateUserData(der));
   identities_ = std::make_unique<PeerIdentityListener>(std::move(ca));
   return true;
+}
+
+std::vector<std::string> Participant::MissingProfileAddresses() const {
+  std::lock_guard<std::mutex> lock(address_mutex_);
+  if (!address_watch_) return {};
+  bool changed = false;
+  std::vector<std::string> missing = address_watch_->Check(&changed);
+  if (changed) {
+    if (missing.empty()) {
+      MOSTAR_LOG(INFO) << options_.profile << ": the profile's addresses are back on this host";
+    } else {
+      std::string list;
+      for (const std::string& m : missing) list += (list.empty() ? "" : ", ") + m;
+      MOSTAR_LOG(WARNING) << options_.profile << ": address " << list
+                          << " of the profile's interfaceWhiteList is gone from this host (the "
+                             "overlay down?): no peer reaches this participant until it is back";
+    }
+  }
+  return missing;
 }
 
 std::optional<std::string> Participant::AnnouncedClientId(

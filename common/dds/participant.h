@@ -29,7 +29,9 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "common/dds/interface_wait.h"
 #include "common/dds/security.h"
 #include "common/dds/tcp_user_timeout.h"
 #include "common/identity/guid_binding.h"
@@ -96,6 +98,10 @@ class Participant {
   const std::string& own_client_id() const { return own_client_id_; }
   // Started with --insecure on a network profile without (complete) DDS Security.
   bool security_off() const { return security_off_; }
+  // The addresses of the profile's interfaceWhiteList missing from this host now (the overlay
+  // went down under the running program); logs each change (gone, back). Empty without a
+  // whitelist. Thread-safe; one getifaddrs() per call.
+  std::vector<std::string> MissingProfileAddresses() const;
   PeerIdentityCounters identity_counters() const;
 
  private:
@@ -115,6 +121,8 @@ class Participant {
   std::unique_ptr<PeerIdentityListener> identities_;  // secure participants only
   std::string own_client_id_;
   bool security_off_ = false;
+  mutable std::mutex address_mutex_;
+  mutable std::unique_ptr<AddressWatch> address_watch_;  // guarded by address_mutex_
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };

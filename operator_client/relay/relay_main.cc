@@ -358,6 +358,7 @@ int Main(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   Clock::time_point next_stats = start + std::chrono::duration_cast<Clock::duration>(
                                              std::chrono::duration<double>(stats_period_s));
+  Clock::time_point next_address_check = start;
   while (!StopRequested()) {
     const Clock::time_point now = Clock::now();
     if (duration_s > 0 && now - start >= std::chrono::duration<double>(duration_s)) break;
@@ -370,6 +371,11 @@ int Main(int argc, char** argv) {
         feedback->Write(
             dds::ToIdl(VideoFeedback{SystemClock::Instance().Now(), relay_id, std::move(due)}))) {
       ++reports_sent;
+    }
+    if (now >= next_address_check) {
+      // Logs the overlay's address going away under the relay, and coming back.
+      robot_side->MissingProfileAddresses();
+      next_address_check = now + std::chrono::seconds(1);
     }
     if (now >= next_stats) {
       for (const auto& f : forwarders) MOSTAR_LOG(INFO) << "relay " << f->Stats();

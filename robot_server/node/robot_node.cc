@@ -60,7 +60,15 @@ DeviceHealth RobotNode::NetworkHealth() const {
   network.counters.emplace_back("certificates_verified", identities.certificates_verified);
   network.counters.emplace_back("certificates_refused", identities.certificates_refused);
   network.counters.emplace_back("clock_clients_evicted", unlisted_clock_responder_->evicted());
-  if (participant_->security_off()) {
+  const std::vector<std::string> missing = participant_->MissingProfileAddresses();
+  network.counters.emplace_back("profile_addresses_missing", missing.size());
+  if (!missing.empty()) {
+    // Nobody remote reads this while it lasts; the local log, the recording and a console on
+    // this host do.
+    network.state = DeviceState::kWarn;
+    network.message = "address " + missing.front() +
+                      " of the DDS profile is not on this host (overlay down?): unreachable";
+  } else if (participant_->security_off()) {
     network.state = DeviceState::kWarn;  // every console's HUD lists it
     network.message = "dds security off (--insecure): sender ids unverified";
   } else if (!sender_check_->identities_verified()) {

@@ -4,6 +4,8 @@
 # mostar:overlay-address) does not exist yet, says what it waits for, and once the address is
 # added it is found: an operator-side net_probe reaching that address gets scans and health.
 # Before robot_server waited, it logged "running", was never discovered and sent nothing.
+# Then the address and its link go for 5 s and come back under the running server (the overlay
+# restarted): scans flow again without a restart (the time to the first is printed).
 #
 # Usage: boot_order_test.sh ROBOT_SERVER NET_PROBE SOURCE_DIR
 # Exit 77 (CTest: skipped) when network namespaces cannot be created.
@@ -61,5 +63,28 @@ cat "$work/probe.out"
 field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" "$work/probe.out"; }
 expect "the operator receives scans" '[ "$(field scan)" -ge 5 ]'
 expect "the operator receives health" '[ "$(field health)" -ge 2 ]'
+
+# The overlay restarted under the running server (wg-quick down/up: its address goes away and
+# comes back): the same participant is found again, without a restart. A probe runs through a
+# 5 s removal; the scans it receives after the address is back tell.
+ip netns exec "$operator_ns" "$net_probe" --domain "$domain" --dds-profile "$work/operator.xml" \
+  --insecure --duration-s 16 --samples "$work/samples.csv" > "$work/probe2.out" 2> "$work/probe2.err" &
+probe_pid=$!
+sleep 4
+# As wg-quick down does: the address goes and the link with it (its routes too).
+ip -n "$robot_ns" addr del "$late/24" dev veth0
+ip -n "$robot_ns" link set veth0 down
+sleep 5
+back_ns=$(date +%s%N)
+ip -n "$robot_ns" link set veth0 up
+ip -n "$robot_ns" addr add "$late/24" dev veth0
+wait "$probe_pid" || true
+first_back_ns=$(awk -F, -v t="$back_ns" '$1 ~ /scan/ && $2 > t { print $2; exit }' "$work/samples.csv")
+scans_back=$(awk -F, -v t="$back_ns" '$1 ~ /scan/ && $2 > t { n++ } END { print n + 0 }' "$work/samples.csv")
+expect "scans flow again after the address came back ($scans_back)" '[ "$scans_back" -ge 5 ]'
+[ -z "$first_back_ns" ] || echo "measured: first scan $(( (first_back_ns - back_ns) / 1000000 )) ms after the address came back"
+expect "robot_server kept running" 'kill -0 "$robot_pid" 2>/dev/null'
+expect "robot_server logged the address gone" 'logged "address $late of the profile.s interfaceWhiteList is gone"'
+expect "robot_server logged it back" 'logged "the profile.s addresses are back"'
 if [ "$failures" -ne 0 ]; then echo "--- robot log"; tail -20 "$work/robot.log"; exit 1; fi
 echo "boot_order_test: all checks passed"
