@@ -55,9 +55,13 @@ check "the permissions expire with the certificate (within a day)" \
   '[ $(( $(epoch "$not_after") - $(epoch "$(openssl x509 -in "$pki/alice.cert.pem" -noout -enddate | cut -d= -f2)") )) -le 86400 ]'
 
 bundle="$pki/hosts/robot"
-expected="governance.p7s identity_ca.cert.pem identity_ca.crl.pem permissions_ca.cert.pem robot.cert.pem robot.key.pem robot.permissions.p7s robot.xml"
+# roles: every certificate's name and role, for robot_server --check-config (no secret).
+expected="governance.p7s identity_ca.cert.pem identity_ca.crl.pem permissions_ca.cert.pem robot.cert.pem robot.key.pem robot.permissions.p7s robot.xml roles"
 check "the robot's bundle holds its own files and nothing else" \
   '[ "$(cd "$bundle" && ls | sort | tr "\n" " " | sed "s/ $//")" = "$expected" ]'
+check "the robot's roles file names every participant with its role" \
+  'grep -qx "robot robot" "$bundle/roles" && grep -qx "alice pilot" "$bundle/roles"'
+check "only the robot's bundle has the roles file" '[ ! -e "$pki/hosts/alice/roles" ]'
 check "no bundle holds a CA key" '! ls "$pki"/hosts/*/*_ca.key.pem >/dev/null 2>&1'
 check "a bundle's key is 0640, its certificate 0644" \
   '[ "$(stat -c %a "$bundle/robot.key.pem")" = 640 ] && [ "$(stat -c %a "$bundle/robot.cert.pem")" = 644 ]'
