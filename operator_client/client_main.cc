@@ -15,6 +15,7 @@
 #include "common/log/stamp_trace.h"
 #include "common/math/calibration_io.h"
 #include "common/process/exit_deadline.h"
+#include "common/process/restart_in_place.h"
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
 #include "operator_client/client_config.pb.h"
@@ -298,7 +299,21 @@ int Run(int argc, char** argv) {
   commands.Start();
   InstallStopSignals();
   const SteadyTime start = clock->SteadyNow();
+  SteadyTime next_address_check = start;
   while (!StopRequested() && !window->ShouldClose()) {
+    if (const SteadyTime now = clock->SteadyNow(); now >= next_address_check) {
+      next_address_check = now + FromMilliseconds(250);
+      // Logs the overlay's address going away under the console, and coming back; on a profile
+      // that announces the host's addresses, a new address needs new participants.
+      participant->MissingProfileAddresses();
+      if (participant->NeedsNewParticipant() ||
+          (video_participant && video_participant->NeedsNewParticipant())) {
+        MOSTAR_LOG(WARNING) << "operator_client: restarting in place to be reachable on this "
+                               "computer's new address";
+        RequestRestart();
+        break;
+      }
+    }
     if (capture_after >= 0 && !console.capturing() &&
         video.Stats().pairs_decoded >= static_cast<uint64_t>(capture_after)) {
       console.CapturePair(std::nullopt);
@@ -371,4 +386,8 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::client
 
-int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::client::Run(argc, argv)); }
+int main(int argc, char** argv) {
+  mostar::RememberCommandLine(argc, argv);
+  const int status = mostar::client::Run(argc, argv);
+  return mostar::dds::EndProcess(mostar::RestartIfRequested(status, "operator_client"));
+}

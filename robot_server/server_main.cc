@@ -20,6 +20,7 @@
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
 #include "common/process/exit_deadline.h"
+#include "common/process/restart_in_place.h"
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
 #include "common/service/service_notifier.h"
@@ -226,6 +227,7 @@ int Run(int argc, char** argv) {
   service.Ready("running on DDS domain " + std::to_string(dds_options.domain_id));
   const SteadyTime start = clock->SteadyNow();
   SteadyTime next_cycle = start;
+  SteadyTime next_address_check = start;
   while (!StopRequested()) {
     next_cycle += settings.control_period;
     const SteadyTime now = clock->SteadyNow();
@@ -247,11 +249,20 @@ int Run(int argc, char** argv) {
           << ToSeconds(settings.control_period) * 1000 << " ms): the robot reacted late";
     }
     if (TakeSignalRequest(SIGUSR2)) controller.ReleaseEstopLocally();
+    if (now >= next_address_check) {
+      next_address_check = now + std::chrono::milliseconds(250);
+      if (participant->NeedsNewParticipant()) {
+        MOSTAR_LOG(WARNING) << "robot_server: restarting in place to be reachable on this "
+                               "host's new address (motors stopped, e-stop latch kept)";
+        RequestRestart();
+        break;
+      }
+    }
     if (flags.duration_s > 0 && now - start > FromSeconds(flags.duration_s)) break;
     std::this_thread::sleep_until(next_cycle);
   }
   MOSTAR_LOG(INFO) << "robot_server stopping";
-  service.Stopping("stopping");
+  if (!RestartRequested()) service.Stopping("stopping");
   controller.Stop();  // first: motors stopped and the e-stop latch recorded, whatever hangs next
   {
     // The DDS side (a camera write waiting for acknowledgements, entity deletion) can block
@@ -275,4 +286,8 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::server
 
-int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::server::Run(argc, argv)); }
+int main(int argc, char** argv) {
+  mostar::RememberCommandLine(argc, argv);
+  const int status = mostar::server::Run(argc, argv);
+  return mostar::dds::EndProcess(mostar::RestartIfRequested(status, "robot_server"));
+}

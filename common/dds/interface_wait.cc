@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <fastdds/rtps/transport/SocketTransportDescriptor.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
 
@@ -60,6 +61,48 @@ std::vector<std::string> AddressWatch::Check(const std::vector<std::string>& loc
   if (changed != nullptr) *changed = missing != last_missing_;
   last_missing_ = missing;
   return missing;
+}
+
+bool AnnouncesHostAddresses(const eprosima::fastdds::dds::DomainParticipantQos& qos) {
+  if (!qos.wire_protocol().builtin.metatrafficUnicastLocatorList.empty() ||
+      !qos.wire_protocol().default_unicast_locator_list.empty()) {
+    return false;
+  }
+  if (!WhitelistedAddresses(qos).empty()) return false;
+  if (qos.transport().use_builtin_transports) return true;
+  for (const auto& transport : qos.transport().user_transports) {
+    if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+bool IsLoopback(const std::string& address) { return address.rfind("127.", 0) == 0; }
+bool Contains(const std::vector<std::string>& list, const std::string& value) {
+  return std::find(list.begin(), list.end(), value) != list.end();
+}
+}  // namespace
+
+bool AnnouncedAddressesStale(const std::vector<std::string>& announced,
+                             const std::vector<std::string>& local) {
+  for (const std::string& a : announced) {
+    if (!IsLoopback(a) && Contains(local, a)) return false;  // still reachable there
+  }
+  for (const std::string& l : local) {
+    if (!IsLoopback(l) && !Contains(announced, l)) return true;  // a new participant would be
+  }
+  return false;
+}
+
+bool ReaddressWatch::Check(const std::vector<std::string>& local, TimePoint now) {
+  if (!AnnouncedAddressesStale(announced_, local)) {
+    stale_since_.reset();
+    return false;
+  }
+  if (!stale_since_) stale_since_ = now;
+  return now - *stale_since_ >= hold_;
 }
 
 }  // namespace mostar::dds

@@ -7,7 +7,9 @@
 // (ParticipantOptions::wait_for_interfaces).
 #pragma once
 
+#include <chrono>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,41 @@ class AddressWatch {
  private:
   std::vector<std::string> wanted_;
   std::vector<std::string> last_missing_;
+};
+
+// A UDP profile without an interfaceWhiteList (lan.xml) announces instead every non-loopback
+// IPv4 address the host has when the participant is made, and keeps announcing those: Fast DDS
+// 2.9.1 copies them into each endpoint at creation, and a later rescan
+// (DomainParticipant::set_qos) updates only the participant's own locators, not its readers'.
+// When the host's address changes (a DHCP lease renewed to a new address, a program started
+// before its network), peers keep sending to the old address and only a new participant is
+// reachable again: the programs then restart in place (common/process/restart_in_place.h).
+
+// True when `qos` is such a profile: the builtin transports, or a UDPv4 user transport, with no
+// interfaceWhiteList on any transport and no unicast locators set in the profile.
+bool AnnouncesHostAddresses(const eprosima::fastdds::dds::DomainParticipantQos& qos);
+
+// Whether a participant that announced `announced` (the host's addresses when it was made) is
+// out of reach now while a new one would not be: none of its non-loopback announced addresses is
+// in `local`, and `local` has a non-loopback address it did not announce. Pure.
+bool AnnouncedAddressesStale(const std::vector<std::string>& announced,
+                             const std::vector<std::string>& local);
+
+// AnnouncedAddressesStale held for `hold` without a break (a renewal passing through no address
+// at all, or briefly through both, does not count). Not thread-safe.
+class ReaddressWatch {
+ public:
+  using TimePoint = std::chrono::steady_clock::time_point;
+  ReaddressWatch(std::vector<std::string> announced, std::chrono::milliseconds hold)
+      : announced_(std::move(announced)), hold_(hold) {}
+  // True once the announced addresses have been stale for `hold` up to `now`.
+  bool Check(const std::vector<std::string>& local, TimePoint now);
+  const std::vector<std::string>& announced() const { return announced_; }
+
+ private:
+  std::vector<std::string> announced_;
+  std::chrono::milliseconds hold_;
+  std::optional<TimePoint> stale_since_;
 };
 
 }  // namespace mostar::dds

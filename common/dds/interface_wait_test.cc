@@ -1,9 +1,11 @@
 #include "common/dds/interface_wait.h"
 
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fstream>
 
 #include "common/dds/domain.h"
@@ -108,6 +110,64 @@ TEST(InterfaceWaitTest, AnAddressWatchReportsEachChangeOnce) {
   AddressWatch none({});
   EXPECT_TRUE(none.Check(&changed).empty());
   EXPECT_FALSE(changed);
+}
+
+TEST(InterfaceWaitTest, AnnouncedAddressesAreStaleOnlyWhenNoneIsLeftAndANewOneExists) {
+  // A DHCP lease renewed to a new address: the old one gone, the new one there.
+  EXPECT_TRUE(AnnouncedAddressesStale({"192.168.1.5"}, {"127.0.0.1", "192.168.1.9"}));
+  // A robot started before its network: it announced loopback only, then the LAN came up.
+  EXPECT_TRUE(AnnouncedAddressesStale({"127.0.0.1"}, {"127.0.0.1", "192.168.1.9"}));
+  EXPECT_TRUE(AnnouncedAddressesStale({}, {"192.168.1.9"}));
+  // Still reachable on one announced address: a second interface came or went.
+  EXPECT_FALSE(AnnouncedAddressesStale({"192.168.1.5", "10.0.0.3"}, {"10.0.0.3", "192.168.1.9"}));
+  EXPECT_FALSE(AnnouncedAddressesStale({"192.168.1.5"}, {"192.168.1.5", "172.17.0.1"}));
+  // Network down: a new participant would not be reachable either; the same address may come back.
+  EXPECT_FALSE(AnnouncedAddressesStale({"192.168.1.5"}, {"127.0.0.1"}));
+  EXPECT_FALSE(AnnouncedAddressesStale({"192.168.1.5"}, {}));
+  EXPECT_FALSE(AnnouncedAddressesStale({"127.0.0.1"}, {"127.0.0.1"}));
+}
+
+TEST(InterfaceWaitTest, AReaddressWatchWaitsForTheHoldWithoutABreak) {
+  using std::chrono::milliseconds;
+  ReaddressWatch watch({"192.168.1.5"}, milliseconds(1000));
+  const ReaddressWatch::TimePoint t0{};
+  EXPECT_FALSE(watch.Check({"192.168.1.5"}, t0));
+  EXPECT_FALSE(watch.Check({"192.168.1.9"}, t0 + milliseconds(100)));  // stale from here
+  EXPECT_FALSE(watch.Check({"192.168.1.9"}, t0 + milliseconds(1000)));
+  EXPECT_FALSE(watch.Check({}, t0 + milliseconds(1050)));  // a break: no address at all
+  EXPECT_FALSE(watch.Check({"192.168.1.9"}, t0 + milliseconds(1200)));
+  EXPECT_FALSE(watch.Check({"192.168.1.9"}, t0 + milliseconds(2199)));
+  EXPECT_TRUE(watch.Check({"192.168.1.9"}, t0 + milliseconds(2200)));
+  EXPECT_FALSE(watch.Check({"192.168.1.5", "192.168.1.9"}, t0 + milliseconds(2300)));
+}
+
+// Which shipped profiles announce the host's addresses (and so need a new participant when they
+// change) and which are pinned to addresses that must come back as they were.
+TEST(InterfaceWaitTest, TheLanProfileAnnouncesHostAddressesAndPinnedProfilesDoNot) {
+  namespace fdds = eprosima::fastdds::dds;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::DeleteInstance();
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  const std::string deploy = std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/dds/";
+  ASSERT_EQ(factory->load_XML_profiles_file(deploy + "lan.xml"), ReturnCode_t::RETCODE_OK);
+  fdds::DomainParticipantQos qos;
+  ASSERT_EQ(factory->get_participant_qos_from_profile("robot", qos), ReturnCode_t::RETCODE_OK);
+  EXPECT_TRUE(AnnouncesHostAddresses(qos));
+  eprosima::fastrtps::xmlparser::XMLProfileManager::DeleteInstance();
+  ASSERT_EQ(factory->load_XML_profiles_file(deploy + "overlay.xml"), ReturnCode_t::RETCODE_OK);
+  ASSERT_EQ(factory->get_participant_qos_from_profile("robot", qos), ReturnCode_t::RETCODE_OK);
+  EXPECT_FALSE(AnnouncesHostAddresses(qos));  // whitelisted overlay address
+  eprosima::fastrtps::xmlparser::XMLProfileManager::DeleteInstance();
+  const std::string dir = testing::MakeTempDir("mostar_ifwait_");
+  ASSERT_EQ(factory->load_XML_profiles_file(WriteProfile(dir, "pinned", {"127.0.0.1"})),
+            ReturnCode_t::RETCODE_OK);
+  ASSERT_EQ(factory->get_participant_qos_from_profile("pinned", qos), ReturnCode_t::RETCODE_OK);
+  EXPECT_FALSE(AnnouncesHostAddresses(qos));
+  eprosima::fastrtps::xmlparser::XMLProfileManager::DeleteInstance();
+  fdds::DomainParticipantQos builtin;
+  EXPECT_TRUE(AnnouncesHostAddresses(builtin));
+  builtin.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(
+      eprosima::fastrtps::rtps::Locator_t(7400));
+  EXPECT_FALSE(AnnouncesHostAddresses(builtin));  // locators set by hand stay as they are
 }
 
 }  // namespace

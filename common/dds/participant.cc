@@ -195,6 +195,10 @@ std::unique_ptr<Participant> Participant::Create(const ParticipantOptions& optio
   }
   if (!p->SetUpSecurity(settings, &qos, error)) return nullptr;
   p->address_watch_ = std::make_unique<AddressWatch>(WhitelistedAddresses(qos));
+  if (AnnouncesHostAddresses(qos)) {
+    p->readdress_watch_ =
+        std::make_unique<ReaddressWatch>(LocalIpv4Addresses(), std::chrono::seconds(1));
+  }
   for (const auto& transport : qos.transport().user_transports) {
     if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::TCPTransportDescriptor>(transport)) {
       p->uses_tcp_ = true;
@@ -269,6 +273,26 @@ std::vector<std::string> Participant::MissingProfileAddresses() const {
     }
   }
   return missing;
+}
+
+bool Participant::NeedsNewParticipant() const {
+  std::lock_guard<std::mutex> lock(address_mutex_);
+  if (!readdress_watch_) return false;
+  const std::vector<std::string> local = LocalIpv4Addresses();
+  const bool stale = readdress_watch_->Check(local, std::chrono::steady_clock::now());
+  if (stale && !readdress_logged_) {
+    readdress_logged_ = true;
+    const auto join = [](const std::vector<std::string>& list) {
+      std::string out;
+      for (const std::string& a : list) out += (out.empty() ? "" : ", ") + a;
+      return out.empty() ? std::string("none") : out;
+    };
+    MOSTAR_LOG(WARNING) << options_.profile << ": this host's addresses changed (announced "
+                        << join(readdress_watch_->announced()) << "; now " << join(local)
+                        << "): peers keep sending to the announced ones, so participant '"
+                        << options_.name << "' must be made again";
+  }
+  return stale;
 }
 
 std::optional<std::string> Participant::AnnouncedClientId(

@@ -102,6 +102,13 @@ class Participant {
   // went down under the running program); logs each change (gone, back). Empty without a
   // whitelist. Thread-safe; one getifaddrs() per call.
   std::vector<std::string> MissingProfileAddresses() const;
+  // For a profile that announces the host's addresses (no interfaceWhiteList: lan.xml): true
+  // once none of the addresses announced when the participant was made has been on this host
+  // for 1 s while another one is (a lease renewed to a new address, a network that came up
+  // after the program). Peers then keep sending to the old address (interface_wait.h): the
+  // program ends in order and restarts in place (common/process/restart_in_place.h). Logs the
+  // first time, with both address lists. Thread-safe; one getifaddrs() per call.
+  bool NeedsNewParticipant() const;
   PeerIdentityCounters identity_counters() const;
 
  private:
@@ -122,7 +129,9 @@ class Participant {
   std::string own_client_id_;
   bool security_off_ = false;
   mutable std::mutex address_mutex_;
-  mutable std::unique_ptr<AddressWatch> address_watch_;  // guarded by address_mutex_
+  mutable std::unique_ptr<AddressWatch> address_watch_;      // guarded by address_mutex_
+  mutable std::unique_ptr<ReaddressWatch> readdress_watch_;  // guarded by address_mutex_
+  mutable bool readdress_logged_ = false;                    // guarded by address_mutex_
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };

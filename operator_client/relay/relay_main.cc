@@ -46,6 +46,7 @@
 #include "common/identity/client_id.h"
 #include "common/identity/sender_partition.h"
 #include "common/log/log.h"
+#include "common/process/restart_in_place.h"
 #include "common/process/stop_signals.h"
 #include "common/time/time.h"
 #include "mostar_msgsPubSubTypes.h"
@@ -375,7 +376,14 @@ int Main(int argc, char** argv) {
     if (now >= next_address_check) {
       // Logs the overlay's address going away under the relay, and coming back.
       robot_side->MissingProfileAddresses();
-      next_address_check = now + std::chrono::seconds(1);
+      next_address_check = now + std::chrono::milliseconds(250);
+      // On a profile that announces the host's addresses, a new address needs new participants.
+      if (robot_side->NeedsNewParticipant() || observer_side->NeedsNewParticipant()) {
+        MOSTAR_LOG(WARNING) << "mostar_relay: restarting in place to be reachable on this host's "
+                               "new address";
+        RequestRestart();
+        break;
+      }
     }
     if (now >= next_stats) {
       for (const auto& f : forwarders) MOSTAR_LOG(INFO) << "relay " << f->Stats();
@@ -399,4 +407,8 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace mostar::relay
 
-int main(int argc, char** argv) { return mostar::dds::EndProcess(mostar::relay::Main(argc, argv)); }
+int main(int argc, char** argv) {
+  mostar::RememberCommandLine(argc, argv);
+  const int status = mostar::relay::Main(argc, argv);
+  return mostar::dds::EndProcess(mostar::RestartIfRequested(status, "mostar_relay"));
+}

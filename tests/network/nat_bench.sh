@@ -51,7 +51,9 @@
 # VIA=relay), SOURCE ("sim": the simulator renders the cameras during the run; "recorded": a
 # moving session of the simulator recorded once on loopback before the runs, 20 s at
 # VIDEO_HZ, replayed in a loop with --replay-sensors, so no scene is rendered during the runs),
-# KEEP_WORK=1 keeps logs and traces. Prints RESULT
+# KEEP_WORK=1 keeps logs and traces; CAPTURE=1 also records packet headers in the robot's,
+# NAT A's, the Internet's, NAT B's, the pilot's and the hub's namespace (tcpdump -i any, one
+# pcap each in the run's directory; tests/network/gap_report.py finds where a flow paused). Prints RESULT
 # lines (key=value: run, what, then the row's values, or failed=overlay|never_drove) for the
 # test wrapper and soak_bench.sh; with TRANSPORT=tcp also udp_blocked (a probe
 # datagram dropped by NAT A: 1) and endpoints_not_tunnel (peers the hub's WireGuard saw at an
@@ -74,6 +76,8 @@ for tool in nft wg wg-quick wireguard-go openssl xvfb-run python3; do
   command -v "$tool" >/dev/null || { echo "nat_bench: $tool is missing" >&2; exit 77; }
 done
 [ -c /dev/net/tun ] || { echo "nat_bench: /dev/net/tun is missing" >&2; exit 77; }
+[ "${CAPTURE:-0}" != 1 ] || command -v tcpdump >/dev/null ||
+  { echo "nat_bench: CAPTURE=1 needs tcpdump (apt install tcpdump)" >&2; exit 2; }
 
 runs=${RUNS:-5}
 for what in $runs; do
@@ -277,6 +281,14 @@ run_one() {  # index, outage seconds or "readdress"
     teardown; return
   }
   local ov="$run/overlay"
+  if [ "${CAPTURE:-0}" = 1 ]; then
+    local ns
+    for ns in robot nata inet natb pilot hub; do
+      ip netns exec "${prefix}_$ns" tcpdump -i any -nn -U -s 96 -w "$run/cap_$ns.pcap" \
+        >/dev/null 2>&1 &
+      pids+=($!)
+    done
+  fi
   ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
     --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" "${replay[@]}" \
     --trace "$run/server.csv" \

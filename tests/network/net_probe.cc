@@ -13,7 +13,8 @@
 //          estop_seen_after_s=S|no releases_sent=N robot_estop=engaged|clear
 //          scan_beams=MIN..MAX (beams per scan received; -1 before the first)
 //          video_frames=N video_gaps=N (the H.264 stream: its frames count as left and right)
-// and with --samples FILE one line per sample: topic,receive_ns,stamp_ns.
+// and with --samples FILE one line per sample: topic,receive_ns,stamp_ns (clock ping replies as
+// topic pong, stamped with the ping's send time).
 //
 // --try-command-writer asks DDS for a cmd_vel writer (without publishing), to check that DDS
 // Security permissions refuse it for observers. --estop-at S engages the e-stop S seconds after
@@ -209,6 +210,7 @@ int Main(int argc, char** argv) {
             static_cast<double>(ToUnixNanos(clock.Now()) - ToUnixNanos(probe.t0)) * 1e-6;
         recorder.AddValue("ping_oneway", oneway_ms);
         recorder.AddValue("ping_rtt", rtt_ms);
+        recorder.Add("pong", probe.t0);  // a samples line per reply (its age is the round trip)
       });
   std::unique_ptr<dds::Writer<mostar_msgs::msg::dds_::ClockProbe_PubSubType>> ping_writer;
   if (ping) {
