@@ -2,7 +2,8 @@
 # The attack suite (issue #16) against the real robot_server on the simulator, across a veth
 # pair between two network namespaces: the robot in one, a live pilot (identity_actor as
 # "alice") and the attacker (tests/security/attacker.cc, a raw DDS participant) in the other.
-# Runs twice on deploy/dds/lan.xml: without DDS Security, then with the PKI of make_pki.sh
+# Runs twice on deploy/dds/lan.xml, side by side in two pairs of namespaces and two domains:
+# without DDS Security, and with the PKI of make_pki.sh
 # (robot, pilots alice and mallory, observers carol and watcher, the relay "relay", an OBSERVER of
 # the role table; bob is a pilot of the role table nobody has a certificate for). Prints the table
 # attack | insecure | secure | how it is stopped.
@@ -42,17 +43,24 @@ pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
   sleep 1
+  pkill -9 -f "$work" 2>/dev/null || true  # the runs' programs (their arguments name $work)
   for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-  "$net/netns.sh" down "$prefix" || true
+  "$net/netns.sh" down "${prefix}i" || true
+  "$net/netns.sh" down "${prefix}s" || true
   if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
 }
 trap cleanup EXIT
 trap "exit 1" INT TERM
-"$net/netns.sh" up "$prefix"
-robot_ns="${prefix}_robot"; operator_ns="${prefix}_operator"
-# lan.xml discovers by multicast: send it over the veth pair, not the namespace's loopback.
-for ns in "$robot_ns" "$operator_ns"; do ip -n "$ns" route replace 224.0.0.0/4 dev veth0; done
-domain=$((120 + $$ % 100))
+# One pair of namespaces per mode (insecure: ${prefix}i, secure: ${prefix}s), each with the
+# addresses of netns.sh; lan.xml discovers by multicast: over the veth pair, not loopback.
+for m in i s; do
+  "$net/netns.sh" up "$prefix$m"
+  for ns in "$prefix${m}_robot" "$prefix${m}_operator"; do
+    ip -n "$ns" route replace 224.0.0.0/4 dev veth0
+  done
+done
+# Two domains as well: both pairs share this host's /dev/shm (lan.xml's shared-memory ports).
+declare -A domain_of=([insecure]=$((120 + $$ % 100)) [secure]=$((20 + $$ % 100)))
 attack_profile=${ATTACK_PROFILE:-lan}
 modes=${ATTACK_MODES:-"insecure secure"}
 for m in $modes; do
@@ -114,9 +122,12 @@ drive {
 }
 EOF
 
-# One run: robot_server, alice holding the lease, the attacker. MODE insecure|secure.
+# One run: robot_server, alice holding the lease, the attacker. MODE insecure|secure, in the
+# mode's namespaces and domain; what it prints goes to $work/MODE.out.
 run() {
   local mode=$1 robot_profile=$2 alice_profile=$3; shift 3
+  local robot_ns="$prefix${mode:0:1}_robot" operator_ns="$prefix${mode:0:1}_operator"
+  local domain=${domain_of[$mode]}
   local extra=()
   [ "$mode" != insecure ] || extra+=(--insecure)  # the profiles file has no DDS Security
   ip netns exec "$robot_ns" "$robot_server" --domain "$domain" --config "$work/robot.pbtxt" \
@@ -142,18 +153,22 @@ run() {
   wait "$robot_pid" 2>/dev/null || true
 }
 
+run_pids=()
 for mode in $modes; do
   if [ "$mode" = insecure ]; then
-    echo "== without DDS Security ($attack_profile.xml)"
     # Without certificates: mallory, carol and relay are only the ids the insider rows play.
-    run insecure "$robot_profile" "$operator_profile" --pilot-cert mallory --observer-cert carol \
-      --relay-cert relay
+    { echo "== without DDS Security ($attack_profile.xml)"
+      run insecure "$robot_profile" "$operator_profile" --pilot-cert mallory --observer-cert carol \
+        --relay-cert relay; } > "$work/insecure.out" 2>&1 &
   else
-    echo "== DDS Security ($attack_profile.xml through make_pki.sh)"
-    run secure "$work/pki/robot.xml" "$work/pki/alice.xml" --pki "$work/pki" --pilot-cert mallory \
-      --observer-cert carol --relay-cert relay --witness-cert watcher
+    { echo "== DDS Security ($attack_profile.xml through make_pki.sh)"
+      run secure "$work/pki/robot.xml" "$work/pki/alice.xml" --pki "$work/pki" --pilot-cert mallory \
+        --observer-cert carol --relay-cert relay --witness-cert watcher; } > "$work/secure.out" 2>&1 &
   fi
+  run_pids+=($!)
 done
+for p in "${run_pids[@]}"; do wait "$p" || true; done
+for mode in $modes; do cat "$work/$mode.out"; done
 
 insiders="insider_pilot_lease insider_pilot_drive insider_pilot_stale_pings
   insider_pilot_estop_release insider_observer_lease insider_observer_drive

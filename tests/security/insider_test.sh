@@ -10,7 +10,7 @@
 #
 # Usage: insider_test.sh ROBOT_SERVER IDENTITY_ACTOR INSIDER_FORGER INSIDER_WITNESS SOURCE_DIR
 #
-# One fresh robot per credential; the forger tries the privileges one after the other in that
+# One fresh robot per credential, the credentials side by side; the forger tries the privileges one after the other in that
 # session (clock_pings, cmd_vel, lease_release, then estop_release, for which the observer
 # watcher engages the e-stop first). Each privilege is judged from what the witness saw in that
 # privilege's own window, from its first try's start to its last try's end plus 3 s (the
@@ -55,17 +55,24 @@ pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
   sleep 1
+  pkill -9 -f "$work" 2>/dev/null || true  # the sessions' programs (their arguments name $work)
   for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-  "$net/netns.sh" down "$prefix" || true
+  local i
+  for i in "${!cred_list[@]}"; do "$net/netns.sh" down "$prefix$i" || true; done
   if [ "${KEEP_WORK:-0}" = 1 ]; then echo "work dir kept: $work"; else rm -rf "$work"; fi
 }
+read -r -a cred_list <<< "$credentials"
 trap cleanup EXIT
 trap "exit 1" INT TERM
-"$net/netns.sh" up "$prefix"
-robot_ns="${prefix}_robot"; operator_ns="${prefix}_operator"
-# lan.xml discovers by multicast: send it over the veth pair, not the namespace's loopback.
-for ns in "$robot_ns" "$operator_ns"; do ip -n "$ns" route replace 224.0.0.0/4 dev veth0; done
-domain=$((120 + $$ % 100))
+# The credentials' sessions run side by side, each in its own pair of namespaces (the addresses
+# of netns.sh) and its own domain (the pairs share this host's /dev/shm).
+for i in "${!cred_list[@]}"; do
+  "$net/netns.sh" up "$prefix$i"
+  # lan.xml discovers by multicast: send it over the veth pair, not the namespace's loopback.
+  for ns in "$prefix${i}_robot" "$prefix${i}_operator"; do
+    ip -n "$ns" route replace 224.0.0.0/4 dev veth0
+  done
+done
 pki="$work/pki"
 robot_addr=10.231.0.1; operator_addr=10.231.0.2  # tests/network/netns.sh
 case ${INSIDER_PROFILE:-lan} in
@@ -169,9 +176,14 @@ judge() {
     }' "$wlog"
 }
 
-rows=()
-failures=0
-for cred in $credentials; do
+# One credential's session: robot, witness, alice and the forger in pair number $2, on domain
+# 120 + 10 * $2 + pid % 10; its rows go to $work/CRED.rows, its log to $work/CRED.out.
+session() {
+  local cred=$1 i=$2
+  local robot_ns="$prefix${i}_robot" operator_ns="$prefix${i}_operator"
+  local domain=$((120 + 10 * i + $$ % 10))
+  local robot_pid witness_pid alice_pid forger_pid ok engaged go tries authenticated priv
+  local outcome evidence matched extra
   echo "== $cred forging alice:$order"
   start "$robot_ns" "$work/$cred.robot.log" "$robot_server" --domain "$domain" \
     --config "$work/robot.pbtxt" --source sim --dds-profile "$pki/robot.xml"
@@ -233,10 +245,25 @@ for cred in $credentials; do
     if [ "$priv" = estop_release ]; then
       extra=" engaged_at_press=$engaged robot_log_release_from_alice=$(grep -c "emergency stop release from alice$" "$work/$cred.robot.log" || true)"
     fi
-    rows+=("| $cred | alice | $priv | $outcome | $evidence wires=${matched%,} robot_log_alice_authenticated=$authenticated$extra |")
-    [ "$outcome" = blocked ] || failures=$((failures + 1))
+    echo "| $cred | alice | $priv | $outcome | $evidence wires=${matched%,} robot_log_alice_authenticated=$authenticated$extra |" >> "$work/$cred.rows"
   done
   stop "$alice_pid" "$witness_pid" "$robot_pid"
+}
+
+session_pids=()
+for i in "${!cred_list[@]}"; do
+  session "${cred_list[$i]}" "$i" > "$work/${cred_list[$i]}.out" 2>&1 &
+  session_pids+=($!)
+done
+for p in "${session_pids[@]}"; do wait "$p" || true; done
+rows=()
+failures=0
+for cred in "${cred_list[@]}"; do
+  cat "$work/$cred.out"
+  while IFS= read -r r; do
+    rows+=("$r")
+    [[ "$r" = *" | blocked | "* ]] || failures=$((failures + 1))
+  done < <(cat "$work/$cred.rows" 2>/dev/null || echo "| $cred | alice | - | error | the session wrote no rows |")
 done
 
 echo
