@@ -133,6 +133,9 @@ int Run(int argc, char** argv) {
   dds_options.profile = dds_profile;
   dds_options.name = "operator";
   dds_options.insecure = flags.insecure;
+  // Started before its overlay (a laptop whose WireGuard comes up after the console): wait for
+  // the profile's addresses, logged, rather than run unreachable or give up.
+  dds_options.wait_for_interfaces = std::chrono::seconds(60);
   dds::ParticipantOptions video_dds_options;
   if (video_via_relay &&
       !VideoThroughRelayOptions(dds_options, video_domain, &video_dds_options, &error)) {

@@ -9,8 +9,8 @@
 #   - domains: D and D + 1 (per run) instead of 0 and 1;
 #   - the copied simulator configuration's scene is given by its installed path (the installed
 #     folder is not /usr/share/mostar here, so the fallback of config_paths.h cannot find it).
-# Also: the robot's service started before its overlay (boot order), and the robot's overlay
-# restarted under the running server (wg-quick down, up).
+# Also: the robot's service and carol's console started before their overlays (boot order),
+# and the robot's overlay restarted under the running server (wg-quick down, up).
 # Checked: each --check-config as the recipe runs it (the robot's before its overlay names only
 # the missing address); the pilot gets the lease and drives, also after the overlay restart;
 # alice and carol decode video through the relay; the robot has one reader of its H.264 stream.
@@ -126,14 +126,14 @@ passes "with the overlay up the robot's --check-config passes" \
 # --- 4. each operator
 ip netns exec "$(ns pilot)" wg-quick up "$(wg_conf alice.conf alice)" >"$work/wg_alice.log" 2>&1 ||
   fail_now "alice's overlay"
-ip netns exec "$(ns obs1)" wg-quick up "$(wg_conf carol.conf carol)" >"$work/wg_carol.log" 2>&1 ||
-  fail_now "carol's overlay"
 # Every peer's first handshake with the hub (its keepalive starts it), as `wg show` would tell.
-for h in robot alice carol; do
+handshake() {  # peer
+  local h=$1 n
   n=$(ns robot); [ "$h" = alice ] && n=$(ns pilot); [ "$h" = carol ] && n=$(ns obs1)
   wait_for "[ \"\$(ip netns exec $n wg show w$tag$h latest-handshakes | awk '{print \$2}')\" -gt 0 ] 2>/dev/null" 150 ||
     fail_now "no WireGuard handshake from $h"
-done
+}
+for h in robot alice; do handshake "$h"; done
 alice=(--dds-profile "$pki_dir/alice.xml" --role pilot --video-via-relay --domain "$domain"
   --video-domain "$observer_domain")
 carol=(--dds-profile "$pki_dir/carol.xml" --role observer --domain "$observer_domain")
@@ -151,7 +151,14 @@ console() {  # namespace, log, arguments...
   console_pids+=($!)
 }
 console "$(ns pilot)" "$work/alice.log" "${alice[@]}" --drive 0.1,0
+# carol's console starts before her overlay (a laptop whose WireGuard comes up later): it waits
+# for its address, then watches like the others.
 console "$(ns obs1)" "$work/carol.log" "${carol[@]}"
+check "carol's console waits for her overlay address" \
+  'wait_for "grep -q \"waiting up to .* for address\" \"$work/carol.log\"" 150'
+ip netns exec "$(ns obs1)" wg-quick up "$(wg_conf carol.conf carol)" >"$work/wg_carol.log" 2>&1 ||
+  fail_now "carol's overlay"
+handshake carol
 drove_after() {  # a drive output above zero in the server's trace after epoch ns $1
   awk -F, -v t="$1" '$1 == "drive_out_mmps" && $2 > t && $3 > 0 { found = 1 } END { exit !found }' \
     "$work/server.csv" 2>/dev/null
