@@ -10,6 +10,7 @@
 #include "common/config/config_loader.h"
 #include "common/config/config_paths.h"
 #include "common/dds/domain.h"
+#include "common/dds/network_check.h"
 #include "common/dds/participant.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
@@ -302,20 +303,14 @@ int Run(int argc, char** argv) {
   commands.Start();
   InstallStopSignals();
   const SteadyTime start = clock->SteadyNow();
-  SteadyTime next_address_check = start;
+  // The overlay's address gone and back is logged; a new address means restarting in place.
+  dds::NetworkCheck network_check({participant.get(), video_participant.get()});
   while (!StopRequested() && !window->ShouldClose()) {
-    if (const SteadyTime now = clock->SteadyNow(); now >= next_address_check) {
-      next_address_check = now + FromMilliseconds(250);
-      // Logs the overlay's address going away under the console, and coming back; on a profile
-      // that announces the host's addresses, a new address needs new participants.
-      participant->MissingProfileAddresses();
-      if (participant->NeedsNewParticipant() ||
-          (video_participant && video_participant->NeedsNewParticipant())) {
-        MOSTAR_LOG(WARNING) << "operator_client: restarting in place to be reachable on this "
-                               "computer's new address";
-        RequestRestart();
-        break;
-      }
+    if (network_check.RestartNeeded(std::chrono::steady_clock::now())) {
+      MOSTAR_LOG(WARNING) << "operator_client: restarting in place to be reachable on this "
+                             "computer's new address";
+      RequestRestart();
+      break;
     }
     if (capture_after >= 0 && !console.capturing() &&
         video.Stats().pairs_decoded >= static_cast<uint64_t>(capture_after)) {

@@ -16,6 +16,7 @@
 #include "common/config/config_paths.h"
 #include "common/config/config_report.h"
 #include "common/dds/domain.h"
+#include "common/dds/network_check.h"
 #include "common/dds/participant.h"
 #include "common/log/log.h"
 #include "common/log/stamp_trace.h"
@@ -227,7 +228,7 @@ int Run(int argc, char** argv) {
   service.Ready("running on DDS domain " + std::to_string(dds_options.domain_id));
   const SteadyTime start = clock->SteadyNow();
   SteadyTime next_cycle = start;
-  SteadyTime next_address_check = start;
+  dds::NetworkCheck network_check({participant.get()});
   while (!StopRequested()) {
     next_cycle += settings.control_period;
     const SteadyTime now = clock->SteadyNow();
@@ -249,14 +250,11 @@ int Run(int argc, char** argv) {
           << ToSeconds(settings.control_period) * 1000 << " ms): the robot reacted late";
     }
     if (TakeSignalRequest(SIGUSR2)) controller.ReleaseEstopLocally();
-    if (now >= next_address_check) {
-      next_address_check = now + std::chrono::milliseconds(250);
-      if (participant->NeedsNewParticipant()) {
-        MOSTAR_LOG(WARNING) << "robot_server: restarting in place to be reachable on this "
-                               "host's new address (motors stopped, e-stop latch kept)";
-        RequestRestart();
-        break;
-      }
+    if (network_check.RestartNeeded(std::chrono::steady_clock::now())) {
+      MOSTAR_LOG(WARNING) << "robot_server: restarting in place to be reachable on this "
+                             "host's new address (motors stopped, e-stop latch kept)";
+      RequestRestart();
+      break;
     }
     if (flags.duration_s > 0 && now - start > FromSeconds(flags.duration_s)) break;
     std::this_thread::sleep_until(next_cycle);

@@ -40,6 +40,7 @@
 #include "common/config/config_report.h"
 #include "common/dds/conversions.h"
 #include "common/dds/endpoint.h"
+#include "common/dds/network_check.h"
 #include "common/dds/participant.h"
 #include "common/dds/profile_check.h"
 #include "common/dds/topics.h"
@@ -359,7 +360,7 @@ int Main(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   Clock::time_point next_stats = start + std::chrono::duration_cast<Clock::duration>(
                                              std::chrono::duration<double>(stats_period_s));
-  Clock::time_point next_address_check = start;
+  dds::NetworkCheck network_check({robot_side.get(), observer_side.get()});
   while (!StopRequested()) {
     const Clock::time_point now = Clock::now();
     if (duration_s > 0 && now - start >= std::chrono::duration<double>(duration_s)) break;
@@ -373,17 +374,12 @@ int Main(int argc, char** argv) {
             dds::ToIdl(VideoFeedback{SystemClock::Instance().Now(), relay_id, std::move(due)}))) {
       ++reports_sent;
     }
-    if (now >= next_address_check) {
-      // Logs the overlay's address going away under the relay, and coming back.
-      robot_side->MissingProfileAddresses();
-      next_address_check = now + std::chrono::milliseconds(250);
-      // On a profile that announces the host's addresses, a new address needs new participants.
-      if (robot_side->NeedsNewParticipant() || observer_side->NeedsNewParticipant()) {
-        MOSTAR_LOG(WARNING) << "mostar_relay: restarting in place to be reachable on this host's "
-                               "new address";
-        RequestRestart();
-        break;
-      }
+    // The overlay's address gone and back is logged; a new address means restarting in place.
+    if (network_check.RestartNeeded(now)) {
+      MOSTAR_LOG(WARNING) << "mostar_relay: restarting in place to be reachable on this host's "
+                             "new address";
+      RequestRestart();
+      break;
     }
     if (now >= next_stats) {
       for (const auto& f : forwarders) MOSTAR_LOG(INFO) << "relay " << f->Stats();
