@@ -4,6 +4,7 @@
 #include <fastdds/rtps/transport/SocketTransportDescriptor.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <ifaddrs.h>
+#include <net/if.h>
 #include <netinet/in.h>
 
 #include <algorithm>
@@ -25,16 +26,22 @@ std::vector<std::string> WhitelistedAddresses(
   return out;
 }
 
-std::vector<std::string> LocalIpv4Addresses() {
+std::vector<std::string> RunningIpv4Addresses(const ifaddrs* list) {
   std::vector<std::string> out;
-  ifaddrs* list = nullptr;
-  if (getifaddrs(&list) != 0) return out;
   for (const ifaddrs* i = list; i != nullptr; i = i->ifa_next) {
     if (i->ifa_addr == nullptr || i->ifa_addr->sa_family != AF_INET) continue;
+    if ((i->ifa_flags & IFF_RUNNING) == 0) continue;  // as Fast DDS's IPFinder::getIPs
     char text[INET_ADDRSTRLEN] = {};
     const auto* in = reinterpret_cast<const sockaddr_in*>(i->ifa_addr);
     if (inet_ntop(AF_INET, &in->sin_addr, text, sizeof(text)) != nullptr) out.emplace_back(text);
   }
+  return out;
+}
+
+std::vector<std::string> LocalIpv4Addresses() {
+  ifaddrs* list = nullptr;
+  if (getifaddrs(&list) != 0) return {};
+  std::vector<std::string> out = RunningIpv4Addresses(list);
   freeifaddrs(list);
   return out;
 }

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+struct ifaddrs;
+
 namespace mostar::dds {
 
 // Every address in the interfaceWhiteList of `qos`'s UDPv4/TCPv4 transports, once each, in
@@ -20,8 +22,15 @@ namespace mostar::dds {
 std::vector<std::string> WhitelistedAddresses(
     const eprosima::fastdds::dds::DomainParticipantQos& qos);
 
-// The IPv4 addresses of this host's interfaces now (getifaddrs), dotted.
+// The IPv4 addresses of this host's running interfaces now (getifaddrs), dotted: the ones Fast
+// DDS 2.9.1 can use. Its IPFinder skips an interface without IFF_RUNNING, so a participant
+// created between `ip address add` and `ip link set up` (wg-quick does both, in that order)
+// would never use that address although it exists.
 std::vector<std::string> LocalIpv4Addresses();
+
+// The IPv4 addresses of the interfaces in a getifaddrs list that have IFF_RUNNING, dotted, in
+// list order. Pure.
+std::vector<std::string> RunningIpv4Addresses(const ifaddrs* list);
 
 // The entries of `wanted` that are not in `local`. Pure.
 std::vector<std::string> MissingAddresses(const std::vector<std::string>& wanted,

@@ -1,7 +1,11 @@
 #include "common/dds/interface_wait.h"
 
+#include <arpa/inet.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
+#include <ifaddrs.h>
+#include <net/if.h>
+#include <netinet/in.h>
 
 #include <algorithm>
 #include <chrono>
@@ -25,6 +29,36 @@ TEST(InterfaceWaitTest, MissingAddressesAreThoseNotOnTheHost) {
 TEST(InterfaceWaitTest, TheHostHasLoopback) {
   const std::vector<std::string> local = LocalIpv4Addresses();
   EXPECT_NE(std::find(local.begin(), local.end(), "127.0.0.1"), local.end());
+}
+
+// An address whose interface is not running yet (wg-quick adds it before `ip link set up`) is
+// not one Fast DDS uses, so it does not count as there.
+TEST(InterfaceWaitTest, OnlyRunningInterfacesCount) {
+  sockaddr_in up_address{};
+  up_address.sin_family = AF_INET;
+  inet_pton(AF_INET, "10.77.0.4", &up_address.sin_addr);
+  sockaddr_in down_address = up_address;
+  inet_pton(AF_INET, "10.77.0.5", &down_address.sin_addr);
+  sockaddr_in6 v6{};
+  v6.sin6_family = AF_INET6;
+  ifaddrs v6_entry{};
+  v6_entry.ifa_addr = reinterpret_cast<sockaddr*>(&v6);
+  v6_entry.ifa_flags = IFF_UP | IFF_RUNNING;
+  ifaddrs down{};
+  down.ifa_addr = reinterpret_cast<sockaddr*>(&down_address);
+  down.ifa_flags = IFF_UP;  // address added, no carrier yet
+  down.ifa_next = &v6_entry;
+  ifaddrs no_address{};
+  no_address.ifa_flags = IFF_UP | IFF_RUNNING;
+  no_address.ifa_next = &down;
+  ifaddrs running{};
+  running.ifa_addr = reinterpret_cast<sockaddr*>(&up_address);
+  running.ifa_flags = IFF_UP | IFF_RUNNING;
+  running.ifa_next = &no_address;
+  EXPECT_EQ(RunningIpv4Addresses(&running), (std::vector<std::string>{"10.77.0.4"}));
+  down.ifa_flags = IFF_UP | IFF_RUNNING;
+  EXPECT_EQ(RunningIpv4Addresses(&running), (std::vector<std::string>{"10.77.0.4", "10.77.0.5"}));
+  EXPECT_TRUE(RunningIpv4Addresses(nullptr).empty());
 }
 
 // A UDPv4 profile whose transport is restricted to `addresses`, participant profile `name`.

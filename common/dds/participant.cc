@@ -147,9 +147,11 @@ bool WaitForWhitelistedAddresses(const fdds::DomainParticipantQos& qos,
       return false;
     }
     if (!said) {
-      MOSTAR_LOG(WARNING) << options.profile << ": waiting up to "
-                          << options.wait_for_interfaces.count() / 1000.0 << " s for address "
-                          << list << " (the profile's interfaceWhiteList) to exist on this host";
+      MOSTAR_LOG(WARNING)
+          << options.profile << ": waiting up to " << options.wait_for_interfaces.count() / 1000.0
+          << " s for address " << list
+          << " (the profile's interfaceWhiteList) to exist on this host on a running "
+             "interface";
       said = true;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
