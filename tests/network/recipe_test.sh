@@ -10,10 +10,13 @@
 #   - the copied simulator configuration's scene is given by its installed path (the installed
 #     folder is not /usr/share/mostar here, so the fallback of config_paths.h cannot find it).
 # Also: the robot's service and carol's console started before their overlays (boot order),
-# and the robot's overlay restarted under the running server (wg-quick down, up).
+# the robot's overlay restarted under the running server (wg-quick down, up), and a second
+# observer, dave behind NAT C, added while everything runs (the scripts again with his name,
+# `wg syncconf` on the hub).
 # Checked: each --check-config as the recipe runs it (the robot's before its overlay names only
 # the missing address); the pilot gets the lease and drives, also after the overlay restart;
-# alice and carol decode video through the relay; the robot has one reader of its H.264 stream.
+# alice, carol and dave decode video through the relay; the robot has one reader of its H.264
+# stream.
 #
 # Usage: recipe_test.sh BUILD_DIR NETEM_RELAY SOURCE_DIR   (as root)
 # Exit 77 (CTest: skipped) where namespaces, wireguard-go or /dev/net/tun are missing.
@@ -79,7 +82,7 @@ domain=$((100 + RANDOM % 100))
 observer_domain=$((domain + 1))
 
 "$here/nat_topology.sh" up "$prefix" --log-dir "$work" >/dev/null || fail_now "topology"
-ns() { echo "${prefix}_$1"; }  # hub robot pilot (alice) obs1 (carol)
+ns() { echo "${prefix}_$1"; }  # hub robot pilot (alice) obs1 (carol) obs2 (dave)
 
 # --- 1. the administrator's computer: overlay, then PKI
 "$bin/mostar-make-overlay" "$work/site/overlay" --hub-endpoint 198.18.0.10:51820 \
@@ -129,7 +132,7 @@ ip netns exec "$(ns pilot)" wg-quick up "$(wg_conf alice.conf alice)" >"$work/wg
 # Every peer's first handshake with the hub (its keepalive starts it), as `wg show` would tell.
 handshake() {  # peer
   local h=$1 n
-  n=$(ns robot); [ "$h" = alice ] && n=$(ns pilot); [ "$h" = carol ] && n=$(ns obs1)
+  case $h in alice) n=$(ns pilot) ;; carol) n=$(ns obs1) ;; dave) n=$(ns obs2) ;; *) n=$(ns robot) ;; esac
   wait_for "[ \"\$(ip netns exec $n wg show w$tag$h latest-handshakes | awk '{print \$2}')\" -gt 0 ] 2>/dev/null" 150 ||
     fail_now "no WireGuard handshake from $h"
 }
@@ -142,10 +145,10 @@ passes "alice's --check-config passes" \
 duration=30  # s: the consoles then end by themselves and print their reports
 console_pids=()
 console() {  # namespace, log, arguments...
-  local n=$1 log=$2
+  local n=$1 log=$2 seconds=${console_seconds:-$duration}
   shift 2
   ip netns exec "$n" xvfb-run -a -s "-screen 0 640x480x24 -noreset" "$bin/operator_client" \
-    --headless --window-size 320x240 --duration "$duration" \
+    --headless --window-size 320x240 --duration "$seconds" \
     --calibration "$share/config/calibration_sim.pbtxt" "$@" >"$log" 2>&1 &
   pids+=($!)
   console_pids+=($!)
@@ -165,6 +168,22 @@ drove_after() {  # a drive output above zero in the server's trace after epoch n
 }
 check "alice gets the lease and drives" 'wait_for "drove_after 0" 400'
 
+# --- 5. an observer added later (dave, behind NAT C): steps 1, 2 (the hub's peers reloaded)
+# and 4 for him alone; the relay, the robot and the other consoles keep running.
+"$bin/mostar-make-overlay" "$work/site/overlay" --hub-endpoint 198.18.0.10:51820 \
+  --observer dave >>"$work/make_overlay.log" 2>&1 || fail_now "mostar-make-overlay adding dave"
+"$bin/mostar-make-pki" "$work/site/pki" --profile-dir "$work/site/overlay" --observer dave \
+  >>"$work/make_pki.log" 2>&1 || fail_now "mostar-make-pki adding dave"
+cp "$work/site/pki/hosts/dave/"* "$pki_dir/"
+hub_conf=$(wg_conf mostar-hub.conf hub)
+ip netns exec "$(ns hub)" bash -c "wg syncconf w${tag}hub <(wg-quick strip '$hub_conf')" ||
+  fail_now "the hub's overlay reload"
+ip netns exec "$(ns obs2)" wg-quick up "$(wg_conf dave.conf dave)" >"$work/wg_dave.log" 2>&1 ||
+  fail_now "dave's overlay"
+handshake dave
+console_seconds=20 console "$(ns obs2)" "$work/dave.log" \
+  --dds-profile "$pki_dir/dave.xml" --role observer --domain "$observer_domain"
+
 # --- the robot's overlay restarted under the running server
 ip netns exec "$(ns robot)" wg-quick down "$work/w${tag}robot.conf" >>"$work/wg_robot.log" 2>&1
 sleep 3
@@ -183,14 +202,16 @@ for p in "${console_pids[@]}"; do
   wait_for "! kill -0 $p 2>/dev/null" $(( (duration + 30) * 10 )) || true
 done
 pairs() { sed -n 's/.* pairs_decoded=\([0-9]*\).*/\1/p' "$1" | tail -1; }
-a=$(pairs "$work/alice.log"); c=$(pairs "$work/carol.log")
+a=$(pairs "$work/alice.log"); c=$(pairs "$work/carol.log"); d=$(pairs "$work/dave.log")
 check "alice decoded video through the relay (${a:-no report} pairs)" '[ "${a:-0}" -ge 30 ]'
 check "carol decoded video through the relay (${c:-no report} pairs)" '[ "${c:-0}" -ge 30 ]'
+check "dave, added later, decoded video through the relay (${d:-no report} pairs)" \
+  '[ "${d:-0}" -ge 30 ]'
 readers=$(sed -n 's/.*readers of the H.264 stream: \([0-9]*\).*/\1/p' "$work/robot.log" | sort -n | tail -1)
 check "the robot's uplink carried the video once (readers of the H.264 stream: ${readers:-none})" \
   '[ "${readers:-0}" = 1 ]'
 if [ "$failures" -ne 0 ]; then
-  for f in robot relay alice carol; do echo "--- $f"; tail -15 "$work/$f.log"; done
+  for f in robot relay alice carol dave; do echo "--- $f"; tail -15 "$work/$f.log"; done
   exit 1
 fi
 echo "recipe_test: all checks passed"
