@@ -248,7 +248,16 @@ void CheckRoleTable(const ServerConfig& config,
   bool consistent = true;
   for (const auto& [name, role] : table) {
     if (name.find("CHANGE-ME") != std::string::npos) continue;
-    if (pki_roles->count(name) == 0) {
+    const auto issued = pki_roles->find(name);
+    if (issued != pki_roles->end() && issued->second == "revoked") {
+      report->Fail(
+          "role table: '" + name +
+              "' was revoked (its certificate is in the CRL), so nobody can act as it",
+          "remove the line, or issue the name again (make_pki.sh --" +
+              std::string(table.at(name) == drive::PilotRole::PILOT ? "pilot " : "observer ") +
+              name + ") and copy its bundle");
+      consistent = false;
+    } else if (issued == pki_roles->end()) {
       report->Fail(
           "role table: '" + name +
               "' has no certificate in this PKI, so nobody can "

@@ -129,6 +129,29 @@ TEST(ServerCheckTest, AFullCheckReadsTheRolesFileOfTheRobotsBundle) {
   ConfigReport fine;
   CheckServerConfig(fixed, kConfigDir, dds, &fine);
   for (const auto& p : fine.problems()) ADD_FAILURE() << p.what;
+
+  // alice's certificate revoked: the robot's bundle says so, and her line must go.
+  const std::string revoke = std::string(MOSTAR_TEST_SOURCE_DIR) + "/deploy/security/revoke.sh " +
+                             pki + " alice >/dev/null 2>&1";
+  ASSERT_EQ(std::system(revoke.c_str()), 0);
+  ConfigReport revoked;
+  CheckServerConfig(fixed, kConfigDir, dds, &revoked);
+  EXPECT_TRUE(revoked.HasProblem("'alice' was revoked"));
+}
+
+TEST(ServerCheckTest, ARevokedNameInTheRoleTableIsAProblem) {
+  const std::map<std::string, std::string> pki = {
+      {"robot", "robot"}, {"alice", "revoked"}, {"bob", "pilot"}, {"carol", "revoked"}};
+  ServerConfig config;
+  AddRole(&config, "alice", drive::PilotRole::PILOT);
+  AddRole(&config, "bob", drive::PilotRole::PILOT);
+  ConfigReport report;
+  CheckRoleTable(config, pki, &report);
+  EXPECT_TRUE(report.HasProblem("'alice' was revoked"));
+  EXPECT_TRUE(report.HasProblem("make_pki.sh --pilot alice"));
+  EXPECT_FALSE(report.HasProblem("has no certificate"));
+  EXPECT_FALSE(report.HasProblem("carol"));  // revoked and not in the table: nothing to do
+  EXPECT_FALSE(report.HasProblem("bob"));
 }
 
 }  // namespace

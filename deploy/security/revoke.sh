@@ -7,7 +7,10 @@
 # The new CRL is also put into every host bundle (PKI_DIR/hosts/*/). Afterwards copy
 # identity_ca.crl.pem to every robot and operator computer and restart their programs: Fast
 # DDS reads the CRL (property dds.sec.auth.builtin.PKI-DH.identity_crl) when a participant
-# starts, and then refuses to authenticate the revoked certificate. The CRL is valid for
+# starts, and then refuses to authenticate the revoked certificate. The name's line in
+# PKI_DIR/roles (and the robot bundle's copy) says "revoked": copy the robot's bundle again and
+# remove the name from its role table (robot_server --check-config says so). Issuing the name
+# again (make_pki.sh --pilot NAME) gives it a new certificate and role. The CRL is valid for
 # make_pki.sh's --crl-days (31 by default): `make_pki.sh PKI_DIR --refresh-crl` before then.
 set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: revoke.sh PKI_DIR NAME" >&2; exit 2; }
@@ -19,4 +22,12 @@ chmod 644 identity_ca.crl.pem
 for bundle in hosts/*/; do
   [ -d "$bundle" ] && cp identity_ca.crl.pem "$bundle" && chmod 644 "$bundle/identity_ca.crl.pem"
 done
+# The roles file marks the name revoked (robot_server --check-config then names a role-table
+# line that nobody can act as any more); the robot's bundle gets it again.
+if [ -f roles ]; then
+  awk -v n="$2" '$1 == n { $2 = "revoked" } { print }' roles >roles.new && mv roles.new roles
+  for bundle in hosts/*/; do
+    [ -f "$bundle/roles" ] && cp roles "$bundle/roles" && chmod 644 "$bundle/roles"
+  done
+fi
 echo "revoke.sh: revoked $2; distribute $(pwd)/identity_ca.crl.pem and restart the participants"

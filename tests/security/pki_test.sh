@@ -98,6 +98,9 @@ check "the renewed bundle has the new certificate" \
 # Revocation reaches every bundle.
 "$revoke" "$pki" carol >/dev/null
 check "a revoked certificate no longer verifies" '! verifies "$pki/carol.cert.pem"'
+check "the roles file marks the revoked name, in the robot's bundle too" \
+  'grep -qx "carol revoked" "$pki/roles" && grep -qx "carol revoked" "$bundle/roles" &&
+   grep -qx "alice pilot" "$bundle/roles"'
 check "the new CRL is in every bundle" \
   'cmp -s "$pki/identity_ca.crl.pem" "$pki/hosts/robot/identity_ca.crl.pem"'
 
