@@ -77,6 +77,61 @@ if(MOSTAR_BUILD_CLIENT)
     DESTINATION ${MOSTAR_UNIT_DIR} COMPONENT hub)
 endif()
 
+# --- manual pages: help2man from each program's --help (section 1, gzipped as Debian policy
+# 12.1 asks), built with `all` and by the target `man_pages`. Without help2man (a developer's
+# computer) there are none; deploy/install-deps.sh installs it.
+find_program(MOSTAR_HELP2MAN help2man)
+if(MOSTAR_HELP2MAN)
+  set(_mostar_man_dir ${PROJECT_BINARY_DIR}/man)
+  file(MAKE_DIRECTORY ${_mostar_man_dir})
+  set(_mostar_man_pages)
+  # A page for the command NAME run as EXECUTABLE_NAME from DIRECTORY (so that its usage line
+  # says the bare name, not a build path), installed with COMPONENT.
+  function(mostar_man_page name directory executable_name component summary depends)
+    set(page ${_mostar_man_dir}/${name}.1)
+    add_custom_command(OUTPUT ${page}.gz
+      COMMAND ${CMAKE_COMMAND} -E env "PATH=${directory}:/usr/bin:/bin" ${MOSTAR_HELP2MAN}
+              --no-info --no-discard-stderr --section=1 --name=${summary}
+              "--version-string=${name} ${PROJECT_VERSION}" --output=${page} ${executable_name}
+      COMMAND gzip -9nf ${page}
+      DEPENDS ${depends}
+      COMMENT "Manual page ${name}(1)" VERBATIM)
+    set(_mostar_man_pages ${_mostar_man_pages} ${page}.gz PARENT_SCOPE)
+    install(FILES ${page}.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT ${component})
+  endfunction()
+  set(_mostar_programs "robot_server|robot|the mostar robot daemon: sensors, video and driving over DDS"
+    "mostar_wg_tcp|common|the WireGuard overlay's datagrams over TCP where UDP is blocked")
+  if(MOSTAR_BUILD_CLIENT)
+    list(APPEND _mostar_programs
+      "operator_client|operator|the mostar operator console: stereoscopic AR view and driving"
+      "mostar_web|operator|the robot's AR view in any browser, read-only"
+      "mostar_relay|hub|forwards the robot's streams to many observers and their e-stops to the robot")
+  endif()
+  foreach(entry IN LISTS _mostar_programs)
+    string(REPLACE "|" ";" entry "${entry}")
+    list(GET entry 0 target)
+    list(GET entry 1 component)
+    list(GET entry 2 summary)
+    mostar_man_page(${target} $<TARGET_FILE_DIR:${target}> $<TARGET_FILE_NAME:${target}>
+                    ${component} ${summary} ${target})
+  endforeach()
+  foreach(entry "mostar-make-pki|security/make_pki.sh|make the DDS Security PKI: CAs, certificates, permissions, host bundles"
+                "mostar-revoke|security/revoke.sh|revoke a participant's certificate and issue a new CRL"
+                "mostar-make-overlay|wan/make_overlay.sh|make the WireGuard overlay: the hub's and every peer's configuration")
+    string(REPLACE "|" ";" entry "${entry}")
+    list(GET entry 0 name)
+    list(GET entry 1 script)
+    list(GET entry 2 summary)
+    get_filename_component(script_dir ${PROJECT_SOURCE_DIR}/deploy/${script} DIRECTORY)
+    get_filename_component(script_name ${script} NAME)
+    mostar_man_page(${name} ${script_dir} ${script_name} common ${summary}
+                    ${PROJECT_SOURCE_DIR}/deploy/${script})
+  endforeach()
+  add_custom_target(man_pages ALL DEPENDS ${_mostar_man_pages})
+else()
+  message(STATUS "help2man not found: no manual pages (deploy/install-deps.sh installs it)")
+endif()
+
 # Each package's /usr/share/doc/PACKAGE: copyright and changelog.Debian.gz (Debian policy 12.5, 12.7).
 string(TIMESTAMP _mostar_changelog_date "%a, %d %b %Y %H:%M:%S +0000" UTC)
 file(WRITE ${PROJECT_BINARY_DIR}/packaging/changelog.Debian

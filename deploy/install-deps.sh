@@ -35,7 +35,7 @@ PACKAGES=(
   # wireguard-go where the kernel has no WireGuard module)
   nftables wireguard-tools wireguard-go
   # the Debian packages (deploy/package.sh: dpkg-shlibdeps) and their test in a fresh root
-  dpkg-dev lintian debootstrap
+  dpkg-dev lintian debootstrap help2man
 )
 
 missing=()

@@ -25,7 +25,7 @@ else
     -DMOSTAR_BUILD_BENCHMARKS=OFF >/dev/null
 fi
 cmake --build "$BUILD_DIR" -j "$JOBS" \
-  --target robot_server operator_client mostar_web mostar_relay mostar_wg_tcp
+  --target robot_server operator_client mostar_web mostar_relay mostar_wg_tcp man_pages
 rm -rf "$BUILD_DIR/packages"
 log=$BUILD_DIR/cpack.log
 if ! (cd "$BUILD_DIR" && cpack -G DEB) >"$log" 2>&1; then

@@ -79,10 +79,12 @@
 #   in the default partition (H.264 IDRs, rate control); the robot and the relay subscribe them.
 set -euo pipefail
 
-usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
+# usage [STATUS]: the header above, to stdout for --help (status 0), else to stderr (status 2).
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&"$((${1:-2} ? 2 : 1))"; exit "${1:-2}"; }
 die() { echo "make_pki.sh: $*" >&2; exit 1; }
 
 [ $# -ge 1 ] || usage
+case "$1" in -h|--help) usage 0 ;; -*) die "the first argument is OUT_DIR, not $1" ;; esac
 out=$1; shift
 robot=robot
 robot_given=0
@@ -118,7 +120,7 @@ while [ $# -gt 0 ]; do
     --renew) renew=$2; shift 2 ;;
     --refresh-crl) refresh_crl=1; shift ;;
     --update-permissions) update_permissions=1; shift ;;
-    -h|--help) usage ;;
+    -h|--help) usage 0 ;;
     *) die "unknown option $1" ;;
   esac
 done

@@ -13,6 +13,7 @@
 # again (make_pki.sh --pilot NAME) gives it a new certificate and role. The CRL is valid for
 # make_pki.sh's --crl-days (31 by default): `make_pki.sh PKI_DIR --refresh-crl` before then.
 set -euo pipefail
+case "${1:-}" in -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;; esac
 [ $# -eq 2 ] || { echo "usage: revoke.sh PKI_DIR NAME" >&2; exit 2; }
 cd "$1"
 [ -f ca.cnf ] && [ -f "$2.cert.pem" ] || { echo "revoke.sh: no $2.cert.pem or ca.cnf in $1" >&2; exit 1; }

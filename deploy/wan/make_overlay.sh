@@ -51,11 +51,12 @@
 # private key when the peer made its own.
 set -euo pipefail
 
-usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 2; }
+# usage [STATUS]: the header above, to stdout for --help (status 0), else to stderr (status 2).
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&"$((${1:-2} ? 2 : 1))"; exit "${1:-2}"; }
 die() { echo "make_overlay.sh: $*" >&2; exit 1; }
 
 [ $# -ge 1 ] || usage
-case "$1" in -h|--help) usage ;; esac
+case "$1" in -h|--help) usage 0 ;; -*) die "the first argument is OUT_DIR, not $1" ;; esac
 out=$1; shift
 here=$(cd "$(dirname "$(readlink -f "$0")")" && pwd)  # also through /usr/bin links
 endpoint="" subnet=10.77.0 mtu=1420 keepalive=15 robot=robot
@@ -74,7 +75,7 @@ while [ $# -gt 0 ]; do
     --dds-template) template=$2; shift 2 ;;
     --tcp-hub) tcp_hub=$2; shift 2 ;;
     --tunnel-port) tunnel_port=$2; shift 2 ;;
-    -h|--help) usage ;;
+    -h|--help) usage 0 ;;
     *) die "unknown option $1" ;;
   esac
 done

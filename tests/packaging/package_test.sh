@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The Debian packages as a new user meets them (docs/packages.md): lintian finds no error; they
-# install with apt into a fresh Debian 12 root (debootstrap, minbase) that has nothing else;
+# The Debian packages as a new user meets them (docs/packages.md): lintian finds no error and
+# every program in /usr/bin has its manual page; they install with apt into a fresh Debian 12
+# root (debootstrap, minbase) that has nothing else;
 # there every program starts (--help), the mostar user, groups and folders exist,
 # /etc/mostar/server.pbtxt is a conffile whose --check-config names what a robot still lacks,
 # a simulator example copied to /etc/mostar finds its scene and runs, and the PKI and overlay
@@ -25,6 +26,18 @@ if grep -q '^E:' <<<"$lintian_out"; then
   echo "$lintian_out" >&2
   fail "lintian reports errors"
 fi
+
+step "a manual page for every program"
+if grep -E 'no-manual-page|binary-without-manpage' <<<"$lintian_out"; then
+  fail "lintian finds programs without a manual page"
+fi
+for deb in "${debs[@]}"; do
+  contents=$(dpkg-deb -c "$deb" | awk '{ print $6 }')
+  for program in $(grep '^\./usr/bin/.' <<<"$contents" | sed 's|.*/||'); do
+    grep -qx "./usr/share/man/man1/$program.1.gz" <<<"$contents" ||
+      fail "$(basename "$deb") has /usr/bin/$program but no usr/share/man/man1/$program.1.gz"
+  done
+done
 
 work=$(mktemp -d /tmp/mostar-package-test.XXXXXX)
 root=$work/root

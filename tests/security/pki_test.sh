@@ -123,6 +123,10 @@ fi
 check "bad lifetimes are refused" '! "$make_pki" "$work/bad" --days 0 >/dev/null 2>&1'
 check "a relative install directory is refused" \
   '! "$make_pki" "$work/bad" --install-dir etc/pki >/dev/null 2>&1'
+check "--help prints the usage to stdout and succeeds" \
+  '"$make_pki" --help 2>/dev/null | grep -q "^Usage:" && "$revoke" --help 2>/dev/null | grep -q "^Usage:"'
+check "an option in place of OUT_DIR is refused" \
+  '! (cd "$work" && "$make_pki" --robot x >/dev/null 2>&1) && [ ! -e "$work/--robot" ]'
 
 [ "$failures" -eq 0 ] || { echo "pki_test: $failures check(s) failed"; exit 1; }
 echo "pki_test: all checks passed"
