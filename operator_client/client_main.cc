@@ -28,6 +28,7 @@
 #include "operator_client/render/stereo_compositor.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/operator_console.h"
+#include "operator_client/ui/run_report.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/video/stereo_receiver.h"
 #include "operator_client/vision/vision_pipeline.h"
@@ -345,39 +346,23 @@ int Run(int argc, char** argv) {
       std::cerr << "operator_client: cannot write " << screenshot << "\n";
     }
   }
-  const ReceiverStats stats = video.Stats();
-  // The whole run's average (discovery included), beside the last 2 s window's rate.
-  const double run_s = std::max(1e-3, ToSeconds(clock->SteadyNow() - start));
-  std::cout << "report: rendered_frames=" << console.rendered_pairs()
-            << " scripted_rearms=" << console.scripted_rearms()
-            << " pairs_decoded=" << stats.pairs_decoded << " images=" << stats.images
-            << " broken_images=" << stats.broken_images << " scans=" << robot.Snapshot().scans
-            << " commands_sent=" << commands.commands_sent()
-            << " pair_rate_hz_last_2s=" << stats.pair_rate_hz
-            << " pairs_per_s_run=" << static_cast<double>(stats.pairs_decoded) / run_s
-            << " display_age_ms_p50=" << console.DisplayAgePercentileMs(50)
-            << " display_age_ms_p95=" << console.DisplayAgePercentileMs(95)
-            << " frame_time_ms_p50=" << console.FrameTimePercentileMs(50)
-            << " frame_time_ms_p95=" << console.FrameTimePercentileMs(95);
-  if (console.captured()) {
-    std::cout << " captured_stamp_ns=" << ToUnixNanos(*console.captured_stamp());
-  }
-  std::cout << " sonar_echoes=" << console.sonar_echoes()
-            << " sonar_unseen=" << console.sonar_unseen()
-            << " overlays_moved=" << console.shown().overlays_moved()
-            << " overlays_faded=" << console.shown().overlays_faded();
-  for (const ui::LatencyRow& row : console.latency().Rows()) {
-    std::cout << " latency_" << row.name << "_ms_p50=" << row.p50_ms << " latency_" << row.name
-              << "_ms_p95=" << row.p95_ms;
-  }
-  std::cout << " oversized_images=" << stats.oversized_images
-            << " future_pairs=" << stats.future_dropped << " stamp_resyncs=" << stats.stamp_resyncs
-            << " left_decodes=" << stats.left_decodes << " right_decodes=" << stats.right_decodes
-            << " scaled_decodes=" << stats.scaled_decodes << " video_frames=" << stats.video_frames
-            << " video_gaps=" << stats.video_gaps << " video_errors=" << stats.video_errors
-            << " video_skipped=" << stats.video_skipped
-            << " video_queue_dropped=" << stats.video_queue_dropped
-            << " keyframe_requests=" << stats.keyframe_requests << "\n";
+  ui::ConsoleRunTotals totals;
+  totals.rendered_frames = console.rendered_pairs();
+  totals.scripted_rearms = console.scripted_rearms();
+  totals.scans = robot.Snapshot().scans;
+  totals.commands_sent = commands.commands_sent();
+  totals.run_s = ToSeconds(clock->SteadyNow() - start);
+  totals.display_age_ms_p50 = console.DisplayAgePercentileMs(50);
+  totals.display_age_ms_p95 = console.DisplayAgePercentileMs(95);
+  totals.frame_time_ms_p50 = console.FrameTimePercentileMs(50);
+  totals.frame_time_ms_p95 = console.FrameTimePercentileMs(95);
+  if (console.captured()) totals.captured_stamp_ns = ToUnixNanos(*console.captured_stamp());
+  totals.sonar_echoes = console.sonar_echoes();
+  totals.sonar_unseen = console.sonar_unseen();
+  totals.overlays_moved = console.shown().overlays_moved();
+  totals.overlays_faded = console.shown().overlays_faded();
+  totals.latency = console.latency().Rows();
+  std::cout << ui::FormatRunReport(totals, video.Stats());
   return capture && !console.captured() ? 1 : 0;
 }
 
