@@ -57,6 +57,10 @@ bool TunnelClient::Open(std::string* error) {
     *error = "timeouts must be positive and the maximum backoff at least the initial one";
     return false;
   }
+  if (options_.held_datagrams < 0 || options_.held_datagrams > 1024) {
+    *error = "held datagrams must be 0..1024";
+    return false;
+  }
   udp_fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (udp_fd_ < 0 || bind(udp_fd_, reinterpret_cast<const sockaddr*>(&listen), sizeof(listen))) {
     *error = "cannot bind UDP " + options_.listen + ": " + std::strerror(errno);
@@ -157,10 +161,27 @@ void TunnelClient::ReadUdp() {
       if (!link_->OnWritable(&error)) {
         Drop("connection to " + options_.hub + " ended: " + error, Clock::now());
       }
+    } else if (options_.held_datagrams > 0) {
+      held_.emplace_back(buffer, buffer + n);
+      if (held_.size() > static_cast<size_t>(options_.held_datagrams)) {
+        held_.pop_front();
+        ++counters_.dropped_no_link;
+      }
     } else {
       ++counters_.dropped_no_link;
     }
   }
+}
+
+void TunnelClient::SendHeld(Clock::time_point now) {
+  if (held_.empty()) return;
+  for (const std::vector<uint8_t>& datagram : held_) {
+    link_->Send(datagram.data(), datagram.size());
+    ++counters_.held_sent;
+  }
+  held_.clear();
+  std::string error;
+  if (!link_->OnWritable(&error)) Drop("connection to " + options_.hub + " ended: " + error, now);
 }
 
 void TunnelClient::Poll(int timeout_ms) {
@@ -218,6 +239,7 @@ void TunnelClient::Poll(int timeout_ms) {
       ++counters_.connects;
       backoff_ms_ = options_.initial_backoff_ms;
       events_.push_back("connected to " + options_.hub);
+      SendHeld(now);
     }
   }
   if ((resolve_ || connect_fd_ >= 0 || (link_ && !connected())) && now >= deadline_) {

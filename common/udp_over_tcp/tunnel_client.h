@@ -3,8 +3,12 @@
 // its datagrams. Datagrams from the stream go to the last local UDP sender. A dropped
 // connection (end of stream, reset, TCP user timeout, keepalive, protocol error, no preamble
 // within connect_timeout_ms) is dialled again after a backoff of initial_backoff_ms doubling
-// to max_backoff_ms, reset once a connection is established; datagrams that arrive meanwhile
-// are dropped and counted (WireGuard and DDS repair what matters). The hub's name is looked up
+// to max_backoff_ms, reset once a connection is established. Of the datagrams that arrive
+// meanwhile the newest held_datagrams are kept and sent first on the next connection, the rest
+// dropped and counted (WireGuard and DDS repair what matters): WireGuard takes a peer's endpoint
+// from any datagram that authenticates, and these were never delivered, so they pass its replay
+// check and the hub's WireGuard answers this host at its new tunnel at once instead of after its
+// next keepalive. The hub's name is looked up
 // on a thread of its own at every dial, so no step of Poll() blocks. Single-threaded use.
 #pragma once
 
@@ -12,6 +16,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +35,7 @@ struct TunnelClientOptions {
   int connect_timeout_ms = 1500;
   int initial_backoff_ms = 250;
   int max_backoff_ms = 1000;
+  int held_datagrams = 8;  // kept while not connected, sent first on the next connection
   StreamLinkOptions link;
   TcpTuning tcp;
 };
@@ -37,7 +43,8 @@ struct TunnelClientOptions {
 struct TunnelClientCounters {
   uint64_t udp_in = 0;             // datagrams from the local WireGuard
   uint64_t udp_out = 0;            // datagrams delivered to it
-  uint64_t dropped_no_link = 0;    // from WireGuard while not connected
+  uint64_t dropped_no_link = 0;    // from WireGuard while not connected, beyond those held
+  uint64_t held_sent = 0;          // held while not connected, sent once connected
   uint64_t dropped_queue = 0;      // pushed out of the send queue (all connections)
   uint64_t dropped_no_sender = 0;  // from the hub before WireGuard sent anything
   uint64_t connects = 0;           // connections established
@@ -73,6 +80,7 @@ class TunnelClient {
   void Drop(const std::string& why, Clock::time_point now);
   void ReadUdp();
   void Deliver(const uint8_t* datagram, size_t size);
+  void SendHeld(Clock::time_point now);
 
   TunnelClientOptions options_;
   std::string hub_host_;
@@ -84,7 +92,8 @@ class TunnelClient {
   std::shared_ptr<Resolve> resolve_;  // a name lookup in flight
   int connect_fd_ = -1;               // a connect in flight
   std::unique_ptr<StreamLink> link_;
-  Clock::time_point deadline_{};  // of the lookup, connect or preamble in flight
+  std::deque<std::vector<uint8_t>> held_;  // newest last, at most options_.held_datagrams
+  Clock::time_point deadline_{};           // of the lookup, connect or preamble in flight
   Clock::time_point next_dial_{};
   int backoff_ms_;
   uint64_t dropped_queue_closed_ = 0;  // queue drops of links already closed

@@ -154,6 +154,33 @@ TEST_F(TunnelTest, DialsAgainWhenTheHubRestartsAndIsANewEndpoint) {
   EXPECT_GE(client->counters().failures, 1u);
 }
 
+// While the hub is unreachable the newest datagrams are held; the new connection carries them
+// first, so the hub's WireGuard hears this host at its new tunnel endpoint at once.
+TEST_F(TunnelTest, TheNewestDatagramsOfAnOutageGoFirstOnTheNewConnection) {
+  StartServer(0);
+  const int port = server->port();
+  StartClient();
+  server.reset();  // before the client's first dial: nothing listens, every dial is refused
+  for (int i = 0; i < 20; ++i) host_wg.SendTo(client->port(), "d" + std::to_string(i));
+  EXPECT_TRUE(RunUntil([&] { return client->counters().udp_in == 20; }));
+  EXPECT_FALSE(client->connected());
+  EXPECT_EQ(client->counters().dropped_no_link, 12u);
+  StartServer(port);
+  std::vector<std::string> received;
+  EXPECT_TRUE(RunUntil([&] {
+    for (std::string d = hub_wg.Receive(); !d.empty(); d = hub_wg.Receive()) {
+      received.push_back(d);
+    }
+    return received.size() >= 8;
+  }));
+  ASSERT_EQ(received.size(), 8u);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(received[i], "d" + std::to_string(12 + i));
+  EXPECT_EQ(client->counters().held_sent, 8u);
+  // Once sent they are gone: a later reconnection does not repeat them.
+  EXPECT_EQ(HostToHub("after"), HostToHub("after again"));
+  EXPECT_EQ(client->counters().held_sent, 8u);
+}
+
 TEST_F(TunnelTest, ServerClosesAClientThatSendsGarbage) {
   StartServer(0);
   const int fd = socket(AF_INET, SOCK_STREAM, 0);

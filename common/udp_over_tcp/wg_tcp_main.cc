@@ -85,6 +85,10 @@ int Main(int argc, char** argv) {
   client
       ->add_option("--max-backoff-ms", client_options.max_backoff_ms, "longest wait between dials")
       ->check(CLI::Range(250, 60000));
+  client
+      ->add_option("--held-datagrams", client_options.held_datagrams,
+                   "datagrams kept while the hub is unreachable, sent first once it is back")
+      ->check(CLI::Range(0, 1024));
   add_common(client);
   TunnelServerOptions server_options;
   CLI::App* server = app.add_subcommand("server", "on the hub");
@@ -107,7 +111,8 @@ int Main(int argc, char** argv) {
              std::to_string(c.udp_in) + ", udp out " + std::to_string(c.udp_out) +
              ", dropped: queue full " + std::to_string(c.dropped_queue) + ", no link " +
              std::to_string(c.dropped_no_link) + ", no sender " +
-             std::to_string(c.dropped_no_sender) + "; connects " + std::to_string(c.connects) +
+             std::to_string(c.dropped_no_sender) + "; held and sent on reconnection " +
+             std::to_string(c.held_sent) + "; connects " + std::to_string(c.connects) +
              ", failures " + std::to_string(c.failures);
     });
   }
