@@ -34,12 +34,27 @@ struct TunnelClient::Resolve {
   std::string error;
 };
 
+namespace {
+
+DialPlanOptions PlanOptions(const TunnelClientOptions& o) {
+  DialPlanOptions plan;
+  plan.interval = std::chrono::milliseconds(std::max(1, o.dial_interval_ms));
+  plan.max_in_flight = std::max(1, o.connect_timeout_ms / std::max(1, o.dial_interval_ms) + 1);
+  plan.initial_backoff = std::chrono::milliseconds(o.initial_backoff_ms);
+  plan.max_backoff = std::chrono::milliseconds(o.max_backoff_ms);
+  return plan;
+}
+
+constexpr auto kResolveAgain = std::chrono::seconds(30);  // while not connected
+
+}  // namespace
+
 TunnelClient::TunnelClient(TunnelClientOptions options)
-    : options_(std::move(options)), backoff_ms_(options_.initial_backoff_ms) {}
+    : options_(std::move(options)), plan_(PlanOptions(options_)) {}
 
 TunnelClient::~TunnelClient() {
   if (udp_fd_ >= 0) close(udp_fd_);
-  if (connect_fd_ >= 0) close(connect_fd_);
+  CloseDials();
 }
 
 bool TunnelClient::Open(std::string* error) {
@@ -53,7 +68,7 @@ bool TunnelClient::Open(std::string* error) {
     return false;
   }
   if (options_.connect_timeout_ms <= 0 || options_.initial_backoff_ms <= 0 ||
-      options_.max_backoff_ms < options_.initial_backoff_ms) {
+      options_.dial_interval_ms <= 0 || options_.max_backoff_ms < options_.initial_backoff_ms) {
     *error = "timeouts must be positive and the maximum backoff at least the initial one";
     return false;
   }
@@ -78,10 +93,9 @@ TunnelClientCounters TunnelClient::counters() const {
 
 std::vector<std::string> TunnelClient::TakeEvents() { return std::exchange(events_, {}); }
 
-void TunnelClient::StartDial(Clock::time_point now) {
+void TunnelClient::StartResolve() {
   auto job = std::make_shared<Resolve>();
   resolve_ = job;
-  deadline_ = now + std::chrono::milliseconds(options_.connect_timeout_ms);
   std::thread([job, host = hub_host_, port = std::to_string(hub_port_)] {
     addrinfo hints{};
     hints.ai_family = AF_UNSPEC;
@@ -99,36 +113,86 @@ void TunnelClient::StartDial(Clock::time_point now) {
   }).detach();
 }
 
-void TunnelClient::FinishConnect(Clock::time_point now) {
-  int status = 0;
-  socklen_t length = sizeof(status);
-  if (getsockopt(connect_fd_, SOL_SOCKET, SO_ERROR, &status, &length) != 0) status = errno;
-  if (status != 0) {
-    close(connect_fd_);
-    connect_fd_ = -1;
-    Drop(std::string("connect to ") + options_.hub + " failed: " + std::strerror(status), now);
+void TunnelClient::FinishResolve(Clock::time_point now) {
+  const auto job = std::exchange(resolve_, nullptr);
+  resolved_at_ = now;  // a failed lookup is retried no sooner than a good one
+  if (!job->error.empty()) {
+    if (address_length_ == 0) {  // nothing to dial yet: an answered failure
+      Failed(job->error);
+      plan_.Answered(now);
+    }
     return;
   }
-  link_ = std::make_unique<StreamLink>(connect_fd_, options_.link);
-  connect_fd_ = -1;
+  address_ = job->address;
+  address_length_ = job->length;
+}
+
+void TunnelClient::StartDial(Clock::time_point now) {
+  plan_.Started(now);
+  ++counters_.dials;
+  const int fd = socket(address_.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) {
+    Failed(std::string("socket: ") + std::strerror(errno));
+    plan_.Answered(now);
+    return;
+  }
+  std::string warning, error;
+  if (!ConfigureTcpSocket(fd, options_.tcp, &warning, &error)) {
+    close(fd);
+    Failed(error);
+    plan_.Answered(now);
+    return;
+  }
+  if (!warning.empty() && counters_.dials == 1) events_.push_back(warning);
+  if (connect(fd, reinterpret_cast<const sockaddr*>(&address_), address_length_) != 0 &&
+      errno != EINPROGRESS) {
+    const int error_number = errno;
+    close(fd);
+    Failed("connect to " + options_.hub + ": " + std::strerror(error_number));
+    plan_.Answered(now);
+    return;
+  }
+  dials_.push_back({fd, now + std::chrono::milliseconds(options_.connect_timeout_ms)});
+}
+
+void TunnelClient::FinishDial(size_t index, Clock::time_point now) {
+  const int fd = dials_[index].fd;
+  dials_.erase(dials_.begin() + static_cast<std::ptrdiff_t>(index));
+  int status = 0;
+  socklen_t length = sizeof(status);
+  if (getsockopt(fd, SOL_SOCKET, SO_ERROR, &status, &length) != 0) status = errno;
+  if (status != 0) {
+    close(fd);
+    Failed("connect to " + options_.hub + " failed: " + std::strerror(status));
+    plan_.Answered(now);
+    return;
+  }
+  CloseDials();  // the first to connect wins
+  link_ = std::make_unique<StreamLink>(fd, options_.link);
   // The preamble must arrive within the connect timeout, counted from now.
   deadline_ = now + std::chrono::milliseconds(options_.connect_timeout_ms);
 }
 
-void TunnelClient::Drop(const std::string& why, Clock::time_point now) {
+void TunnelClient::CloseDials() {
+  for (const Dial& dial : dials_) close(dial.fd);
+  dials_.clear();
+}
+
+void TunnelClient::Failed(const std::string& why) {
   ++counters_.failures;
+  last_failure_ = why;
+  // Said once per outage (a dead path fails a dial every interval); the count comes with
+  // "connected" and in the periodic counters.
+  if (failures_this_outage_++ == 0) events_.push_back(why + "; dialling again");
+}
+
+void TunnelClient::Drop(const std::string& why, Clock::time_point now) {
   if (link_) {
     dropped_queue_closed_ += link_->counters().datagrams_dropped;
     link_.reset();
   }
-  if (connect_fd_ >= 0) {
-    close(connect_fd_);
-    connect_fd_ = -1;
-  }
-  resolve_.reset();
-  events_.push_back(why + "; dialling again in " + std::to_string(backoff_ms_) + " ms");
-  next_dial_ = now + std::chrono::milliseconds(backoff_ms_);
-  backoff_ms_ = std::min(backoff_ms_ * 2, options_.max_backoff_ms);
+  Failed(why);
+  plan_.Answered(now);
 }
 
 void TunnelClient::Deliver(const uint8_t* datagram, size_t size) {
@@ -186,46 +250,45 @@ void TunnelClient::SendHeld(Clock::time_point now) {
 
 void TunnelClient::Poll(int timeout_ms) {
   auto now = Clock::now();
-  if (!link_ && connect_fd_ < 0 && !resolve_ && now >= next_dial_) StartDial(now);
-
-  pollfd fds[2] = {{udp_fd_, POLLIN, 0}, {-1, 0, 0}};
-  if (connect_fd_ >= 0) fds[1] = {connect_fd_, POLLOUT, 0};
-  if (link_) {
-    fds[1] = {link_->fd(), static_cast<short>(POLLIN | (link_->wants_write() ? POLLOUT : 0)), 0};
+  if (!connected() && !resolve_ && (address_length_ == 0 || now - resolved_at_ >= kResolveAgain)) {
+    StartResolve();
   }
+  if (!link_ && address_length_ > 0 && plan_.ShouldDial(now, static_cast<int>(dials_.size()))) {
+    StartDial(now);
+  }
+
+  std::vector<pollfd> fds;
+  fds.push_back({udp_fd_, POLLIN, 0});
+  if (link_) {
+    fds.push_back(
+        {link_->fd(), static_cast<short>(POLLIN | (link_->wants_write() ? POLLOUT : 0)), 0});
+  }
+  for (const Dial& dial : dials_) fds.push_back({dial.fd, POLLOUT, 0});
   int wait_ms = timeout_ms;
   if (resolve_) wait_ms = std::min(wait_ms, 20);  // the lookup has no descriptor to poll
-  if (resolve_ || connect_fd_ >= 0 || (link_ && !connected())) {
-    wait_ms = std::min(wait_ms, MillisUntil(deadline_, now));
-  } else if (!link_) {
-    wait_ms = std::min(wait_ms, MillisUntil(next_dial_, now));
-  }
-  if (poll(fds, 2, wait_ms) < 0 && errno != EINTR) return;
+  if (link_ && !connected()) wait_ms = std::min(wait_ms, MillisUntil(deadline_, now));
+  for (const Dial& dial : dials_) wait_ms = std::min(wait_ms, MillisUntil(dial.deadline, now));
+  if (!link_ && address_length_ > 0)
+    wait_ms = std::min(wait_ms, MillisUntil(plan_.next_dial(), now));
+  if (poll(fds.data(), fds.size(), wait_ms) < 0 && errno != EINTR) return;
   now = Clock::now();
 
-  if (resolve_ && resolve_->done.load(std::memory_order_acquire)) {
-    const auto job = std::exchange(resolve_, nullptr);
-    if (!job->error.empty()) {
-      Drop(job->error, now);
-    } else {
-      connect_fd_ = socket(job->address.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-      std::string warning, error;
-      if (connect_fd_ < 0) {
-        Drop(std::string("socket: ") + std::strerror(errno), now);
-      } else if (!ConfigureTcpSocket(connect_fd_, options_.tcp, &warning, &error)) {
-        Drop(error, now);
-      } else {
-        if (!warning.empty() && counters_.connects == 0) events_.push_back(warning);
-        if (connect(connect_fd_, reinterpret_cast<const sockaddr*>(&job->address), job->length) !=
-                0 &&
-            errno != EINPROGRESS) {
-          Drop(std::string("connect to ") + options_.hub + ": " + std::strerror(errno), now);
-        }
-      }
+  if (resolve_ && resolve_->done.load(std::memory_order_acquire)) FinishResolve(now);
+  // Dials: the first that connects wins (FinishDial closes the rest); others fail or time out.
+  const size_t first_dial = link_ ? 2 : 1;
+  for (size_t k = fds.size(); k-- > first_dial;) {
+    if (link_ || k - first_dial >= dials_.size()) continue;
+    if (fds[k].revents & (POLLOUT | POLLERR | POLLHUP)) FinishDial(k - first_dial, now);
+  }
+  for (size_t k = dials_.size(); k-- > 0;) {
+    if (now >= dials_[k].deadline) {
+      close(dials_[k].fd);
+      dials_.erase(dials_.begin() + static_cast<std::ptrdiff_t>(k));
+      Failed("connect to " + options_.hub + " took longer than " +
+             std::to_string(options_.connect_timeout_ms) + " ms");  // silent path: no backoff
     }
-  } else if (connect_fd_ >= 0 && (fds[1].revents & (POLLOUT | POLLERR | POLLHUP))) {
-    FinishConnect(now);
-  } else if (link_ && fds[1].fd == link_->fd() && fds[1].revents != 0) {
+  }
+  if (link_ && first_dial == 2 && fds[1].revents != 0) {
     const bool was_connected = connected();
     std::string error;
     bool ok = true;
@@ -237,16 +300,19 @@ void TunnelClient::Poll(int timeout_ms) {
       Drop("connection to " + options_.hub + " ended: " + error, now);
     } else if (!was_connected && connected()) {
       ++counters_.connects;
-      backoff_ms_ = options_.initial_backoff_ms;
-      events_.push_back("connected to " + options_.hub);
+      plan_.Connected();
+      events_.push_back("connected to " + options_.hub +
+                        (failures_this_outage_ == 0
+                             ? std::string()
+                             : " after " + std::to_string(failures_this_outage_) +
+                                   " failed dials (the last: " + last_failure_ + ")"));
+      failures_this_outage_ = 0;
       SendHeld(now);
     }
   }
-  if ((resolve_ || connect_fd_ >= 0 || (link_ && !connected())) && now >= deadline_) {
-    Drop(std::string(resolve_           ? "name lookup"
-                     : connect_fd_ >= 0 ? "connect"
-                                        : "the hub's preamble") +
-             " took longer than " + std::to_string(options_.connect_timeout_ms) + " ms",
+  if (link_ && !connected() && now >= deadline_) {
+    Drop("the hub's preamble took longer than " + std::to_string(options_.connect_timeout_ms) +
+             " ms",
          now);
   }
 

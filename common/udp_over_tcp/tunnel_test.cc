@@ -181,6 +181,32 @@ TEST_F(TunnelTest, TheNewestDatagramsOfAnOutageGoFirstOnTheNewConnection) {
   EXPECT_EQ(client->counters().held_sent, 8u);
 }
 
+// A path that answers nothing (here: the hub's accept queue full, so its kernel drops every
+// SYN, as a dead link would): a new dial starts every interval beside the pending ones, so when
+// the path answers again a fresh SYN gets through without waiting for TCP's 1 s retransmission.
+TEST_F(TunnelTest, ASilentPathGetsANewDialEveryIntervalUntilItAnswers) {
+  StartServer(0);  // not polled yet: it accepts nothing
+  std::vector<int> fillers;
+  for (int i = 0; i < 80; ++i) {  // more than the server's listen backlog (64)
+    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<uint16_t>(server->port()));
+    connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a));
+    fillers.push_back(fd);
+  }
+  StartClient();
+  const auto silent_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  while (std::chrono::steady_clock::now() < silent_until) client->Poll(5);
+  EXPECT_FALSE(client->connected());
+  EXPECT_GE(client->counters().dials, 3u);  // not one dial waiting for its SYN's retransmission
+  EXPECT_EQ(client->counters().connects, 0u);
+  for (const int fd : fillers) close(fd);  // the server may now accept (and drop) them
+  EXPECT_TRUE(RunUntil([&] { return client->connected(); }));
+  EXPECT_EQ(client->counters().connects, 1u);
+}
+
 TEST_F(TunnelTest, ServerClosesAClientThatSendsGarbage) {
   StartServer(0);
   const int fd = socket(AF_INET, SOCK_STREAM, 0);

@@ -83,6 +83,10 @@ int Main(int argc, char** argv) {
                    "connect and preamble within this")
       ->check(CLI::Range(100, 60000));
   client
+      ->add_option("--dial-interval-ms", client_options.dial_interval_ms,
+                   "a new dial this often while the path answers nothing")
+      ->check(CLI::Range(50, 60000));
+  client
       ->add_option("--max-backoff-ms", client_options.max_backoff_ms, "longest wait between dials")
       ->check(CLI::Range(250, 60000));
   client
@@ -112,8 +116,8 @@ int Main(int argc, char** argv) {
              ", dropped: queue full " + std::to_string(c.dropped_queue) + ", no link " +
              std::to_string(c.dropped_no_link) + ", no sender " +
              std::to_string(c.dropped_no_sender) + "; held and sent on reconnection " +
-             std::to_string(c.held_sent) + "; connects " + std::to_string(c.connects) +
-             ", failures " + std::to_string(c.failures);
+             std::to_string(c.held_sent) + "; dials " + std::to_string(c.dials) + ", connects " +
+             std::to_string(c.connects) + ", failures " + std::to_string(c.failures);
     });
   }
   server_options.link = link;
