@@ -17,8 +17,11 @@
 # Each run starts everything afresh: robot_server (simulator), a headless operator_client
 # pilot driving forward at SPEED, net_probe observers obs1 and obs2. Once the robot drives and
 # PRE_S seconds have passed, the robot's uplink is cut both ways (nftables in NAT A) for the
-# run's outage, or NAT A gets a new public address ("readdress"); then POST_S seconds are
-# measured and every program gets SIGTERM.
+# run's outage, or NAT A gets a new public address ("readdress"), or robot_server is restarted
+# as its service would be ("robot_restart": SIGTERM, then the same command line), or the hub
+# restarts ("hub_restart": the relay ends, the hub's WireGuard goes down and up, the relay
+# starts again); "link back" is then the moment the restarted part was started. Then POST_S
+# seconds are measured and every program gets SIGTERM.
 #
 # One Markdown row per run:
 #   stop        last accepted command's arrival -> drive output 0 on the robot (ms)
@@ -35,7 +38,8 @@
 # and the control one-way p50/p95, over the 5 s before the cut.
 #
 # Usage: nat_bench.sh ROBOT_SERVER OPERATOR_CLIENT NET_PROBE NETEM_RELAY MOSTAR_RELAY SOURCE_DIR
-# Environment: RUNS ("5": outage seconds or "readdress", one run each; e.g. "5 5 30 readdress"),
+# Environment: RUNS ("5": outage seconds, "readdress", "robot_restart" or "hub_restart", one run
+# each; e.g. "5 5 30 readdress hub_restart"),
 # OBSERVERS ("obs1 obs2": which observers run), VIA ("relay": observers watch through
 # mostar_relay on the hub, so the robot's uplink carries two copies of the video, the pilot's
 # and the relay's, whatever the number of observers, or one with PILOT_VIDEO=relay; "direct":
@@ -51,7 +55,8 @@
 # VIA=relay), SOURCE ("sim": the simulator renders the cameras during the run; "recorded": a
 # moving session of the simulator recorded once on loopback before the runs, 20 s at
 # VIDEO_HZ, replayed in a loop with --replay-sensors, so no scene is rendered during the runs),
-# KEEP_WORK=1 keeps logs and traces; CAPTURE=1 also records packet headers in the robot's,
+# DDS_TEMPLATE (deploy/dds/overlay.xml: the profiles template make_overlay.sh fills in, e.g. a
+# copy with another leaseDuration), KEEP_WORK=1 keeps logs and traces; CAPTURE=1 also records packet headers in the robot's,
 # NAT A's, the Internet's, NAT B's, the pilot's and the hub's namespace (tcpdump -i any, one
 # pcap each in the run's directory; tests/network/gap_report.py finds where a flow paused). Prints RESULT
 # lines (key=value: run, what, then the row's values, or failed=overlay|never_drove) for the
@@ -81,8 +86,9 @@ done
 
 runs=${RUNS:-5}
 for what in $runs; do
-  [[ "$what" =~ ^[1-9][0-9]*$ || "$what" = readdress ]] ||
-    { echo "nat_bench: RUNS: '$what' is neither outage seconds nor readdress" >&2; exit 2; }
+  [[ "$what" =~ ^[1-9][0-9]*$ || "$what" =~ ^(readdress|robot_restart|hub_restart)$ ]] ||
+    { echo "nat_bench: RUNS: '$what' is neither outage seconds nor readdress, robot_restart" \
+        "or hub_restart" >&2; exit 2; }
 done
 [ -n "${runs// /}" ] || { echo "nat_bench: RUNS is empty" >&2; exit 2; }
 [[ "${WINDOW:-4}" =~ ^([1-9]|1[0-6])$ ]] || { echo "nat_bench: WINDOW must be 1..16" >&2; exit 2; }
@@ -194,7 +200,7 @@ overlay_up() {
   [ "$via" != relay ] || observer_kind=--observer
   "$src/deploy/wan/make_overlay.sh" "$run/overlay" --hub-endpoint 198.18.0.10:51820 \
     --peer robot --peer pilot "$observer_kind" obs1 "$observer_kind" obs2 "${fallback[@]}" \
-    >/dev/null || return 1
+    --dds-template "${DDS_TEMPLATE:-$src/deploy/dds/overlay.xml}" >/dev/null || return 1
   if [ "$transport" = tcp ]; then
     # UDP really is blocked: a probe from the robot's LAN is dropped (and counted) by NAT A.
     ip netns exec "${prefix}_robot" bash -c 'echo probe > /dev/udp/198.18.0.10/9' || true
@@ -289,22 +295,24 @@ run_one() {  # index, outage seconds or "readdress"
       pids+=($!)
     done
   fi
-  ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
-    --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" "${replay[@]}" \
-    --trace "$run/server.csv" \
-    >"$run/server.log" 2>&1 &
-  robot_pid=$!; pids+=("$robot_pid")
+  start_robot() {  # trace and log file names in $run
+    ip netns exec "${prefix}_robot" "$robot_server" --domain "$domain" \
+      --dds-profile "$ov/robot.dds.xml" "${insecure[@]}" --config "$run/../server.pbtxt" \
+      "${replay[@]}" --trace "$run/$1" >"$run/$2" 2>&1 &
+    robot_pid=$!; pids+=("$robot_pid")
+  }
+  start_robot server.csv server.log
   local n=${what//[!0-9]/}; n=${n:-0}
   total=$((90 + n + post_s))
-  local obs_domain=$domain
-  if [ "$via" = relay ]; then
-    obs_domain=$((domain + 1))
+  local obs_domain=$domain relay_pid=""
+  [ "$via" != relay ] || obs_domain=$((domain + 1))
+  start_relay() {  # log file name in $run
     ip netns exec "${prefix}_hub" "$mostar_relay" --dds-profile "$ov/hub.dds.xml" "${insecure[@]}" \
       --robot-domain "$domain" --observer-domain "$obs_domain" \
-      --video-repair-period-ms "${REPAIR_MS:-250}" >"$run/relay.log" 2>&1 &
-    pids+=($!)
-  fi
-  local relay_pid=${pids[-1]}
+      --video-repair-period-ms "${REPAIR_MS:-250}" >"$run/$1" 2>&1 &
+    relay_pid=$!; pids+=("$relay_pid")
+  }
+  [ "$via" != relay ] || start_relay relay.log
   for h in $observers; do
     ip netns exec "${prefix}_$h" "$net_probe" --domain "$obs_domain" --dds-profile "$ov/$h.dds.xml" \
       "${insecure[@]}" --id "$h" --duration-s "$total" --samples "$run/$h.csv" >"$run/$h.log" 2>&1 &
@@ -336,6 +344,18 @@ run_one() {  # index, outage seconds or "readdress"
   date +%s%N > "$run/t_down"
   if [ "$what" = readdress ]; then
     "$here/nat_topology.sh" readdress "$prefix" a 3
+  elif [ "$what" = robot_restart ]; then
+    # As systemd restarts the service: SIGTERM, then the same command line again.
+    echo "old=$(stop_timed "$robot_pid")" > "$run/restart_exit"
+    start_robot server_2.csv server_2.log
+  elif [ "$what" = hub_restart ]; then
+    # The hub computer restarted: the relay ends, its WireGuard goes down and up (peers keep
+    # their sessions; the hub's are new), the relay starts again.
+    [ -z "$relay_pid" ] || echo "old=$(stop_timed "$relay_pid")" > "$run/restart_exit"
+    ip netns exec "${prefix}_hub" wg-quick down "$run/w${tag}hub.conf" >>"$run/wg_hub.log" 2>&1
+    ip netns exec "${prefix}_hub" wg-quick up "$run/w${tag}hub.conf" >>"$run/wg_hub.log" 2>&1 ||
+      echo "nat_bench: the hub's overlay did not come back" >&2
+    [ "$via" != relay ] || start_relay relay_2.log
   else
     "$here/nat_topology.sh" outage "$prefix" a on
     sleep "$n"
@@ -359,6 +379,8 @@ run_one() {  # index, outage seconds or "readdress"
   fi
   echo "$exits" > "$run/exits"
   teardown
+  # A restarted robot's trace goes on in server_2.csv (its clock is the same host's).
+  [ ! -f "$run/server_2.csv" ] || cat "$run/server_2.csv" >>"$run/server.csv"
   python3 - "$run" "$i" "$what" "$fresh_ms" <<'EOF'
 import os, sys
 run, idx, what, fresh_ms = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
@@ -389,6 +411,8 @@ if before:
         stale = "yes" if any(v > 0 for t, v in drive if stopped + 1e8 < t < resume_cmd) else "no"
 if what == "readdress" and stop_ms == "never":
     stop_ms = "kept driving"
+if what == "robot_restart":
+    stop_ms = "(restarted)"  # the old process ended: no drive output after its last command
 drive_again = next((t for t, v in drive if t > t_up and v > 0), None)
 drive_s = "never" if drive_again is None else "%.1f" % ((drive_again - t_up) / 1e9)
 def after(samples, ok):  # link back -> first sample for which ok(receive, age)
