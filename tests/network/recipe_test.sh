@@ -153,7 +153,7 @@ console() {  # namespace, log, arguments...
   pids+=($!)
   console_pids+=($!)
 }
-console "$(ns pilot)" "$work/alice.log" "${alice[@]}" --drive 0.1,0
+console "$(ns pilot)" "$work/alice.log" "${alice[@]}" --drive 0.1,0 --trace "$work/alice.csv"
 # carol's console starts before her overlay (a laptop whose WireGuard comes up later): it waits
 # for its address, then watches like the others.
 console "$(ns obs1)" "$work/carol.log" "${carol[@]}"
@@ -201,6 +201,11 @@ check "robot_server kept running" 'kill -0 "$robot_pid" 2>/dev/null'
 for p in "${console_pids[@]}"; do
   wait_for "! kill -0 $p 2>/dev/null" $(( (duration + 30) * 10 )) || true
 done
+# Video back at alice after the robot's overlay restart: her first image captured after it.
+video_back=$(awk -F, -v t="$back_ns" '$1 == "left_rx" && $3 > t { print $2; exit }' \
+  "$work/alice.csv" 2>/dev/null || true)
+[ -z "$video_back" ] ||
+  echo "measured: video back $(( (video_back - back_ns) / 1000000 )) ms after the overlay came back"
 pairs() { sed -n 's/.* pairs_decoded=\([0-9]*\).*/\1/p' "$1" | tail -1; }
 a=$(pairs "$work/alice.log"); c=$(pairs "$work/carol.log"); d=$(pairs "$work/dave.log")
 # Video flows to each (a count, not a rate: a loaded machine decodes a few pairs per second).
