@@ -118,8 +118,9 @@ check "a peer named hub is refused" 'refused "public host" --hub-endpoint h:1 --
 check "an overlay without its robot is refused" 'refused "no peer named robot" --hub-endpoint h:1 --peer alice'
 check "a TCP hub without a port is refused" 'refused "--tcp-hub must be HOST:PORT" --hub-endpoint h:1 --peer robot --tcp-hub h'
 check "a bad tunnel port is refused" 'refused "--tunnel-port must be" --hub-endpoint h:1 --peer robot --tcp-hub h:443 --tunnel-port 70000'
+# (the output captured first: grep -q in a pipe may end it early, a SIGPIPE under pipefail)
 check "--help prints the usage to stdout and succeeds" \
-  '"$gen" --help 2>/dev/null | grep -q "^Usage:"'
+  'out=$("$gen" --help 2>/dev/null) && grep -q "^Usage:" <<<"$out"'
 check "an option in place of OUT_DIR is refused" \
   '! "$gen" --hub-endpoint h:1 --peer robot >/dev/null 2>&1 && [ ! -e ./--hub-endpoint ]'
 

@@ -123,8 +123,10 @@ fi
 check "bad lifetimes are refused" '! "$make_pki" "$work/bad" --days 0 >/dev/null 2>&1'
 check "a relative install directory is refused" \
   '! "$make_pki" "$work/bad" --install-dir etc/pki >/dev/null 2>&1'
+# (the output captured first: grep -q in a pipe may end it early, a SIGPIPE under pipefail)
 check "--help prints the usage to stdout and succeeds" \
-  '"$make_pki" --help 2>/dev/null | grep -q "^Usage:" && "$revoke" --help 2>/dev/null | grep -q "^Usage:"'
+  'out=$("$make_pki" --help 2>/dev/null) && grep -q "^Usage:" <<<"$out" &&
+   out=$("$revoke" --help 2>/dev/null) && grep -q "^Usage:" <<<"$out"'
 check "an option in place of OUT_DIR is refused" \
   '! (cd "$work" && "$make_pki" --robot x >/dev/null 2>&1) && [ ! -e "$work/--robot" ]'
 
