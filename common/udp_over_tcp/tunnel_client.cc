@@ -93,33 +93,41 @@ TunnelClientCounters TunnelClient::counters() const {
 
 std::vector<std::string> TunnelClient::TakeEvents() { return std::exchange(events_, {}); }
 
+std::string LookUpWithGetaddrinfo(const std::string& host, int port, sockaddr_storage* address,
+                                  socklen_t* length) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* result = nullptr;
+  const int status = getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &result);
+  std::string error;
+  if (status != 0 || result == nullptr) {
+    error = "cannot resolve " + host + ": " + gai_strerror(status);
+  } else {
+    std::memcpy(address, result->ai_addr, result->ai_addrlen);
+    *length = result->ai_addrlen;
+  }
+  if (result != nullptr) freeaddrinfo(result);
+  return error;
+}
+
 void TunnelClient::StartResolve() {
   auto job = std::make_shared<Resolve>();
   resolve_ = job;
-  std::thread([job, host = hub_host_, port = std::to_string(hub_port_)] {
-    addrinfo hints{};
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    addrinfo* result = nullptr;
-    const int status = getaddrinfo(host.c_str(), port.c_str(), &hints, &result);
-    if (status != 0 || result == nullptr) {
-      job->error = "cannot resolve " + host + ": " + gai_strerror(status);
-    } else {
-      std::memcpy(&job->address, result->ai_addr, result->ai_addrlen);
-      job->length = result->ai_addrlen;
-    }
-    if (result != nullptr) freeaddrinfo(result);
+  ++counters_.lookups;
+  std::thread([job, lookup = options_.lookup, host = hub_host_, port = hub_port_] {
+    job->error = lookup(host, port, &job->address, &job->length);
     job->done.store(true, std::memory_order_release);
   }).detach();
 }
 
 void TunnelClient::FinishResolve(Clock::time_point now) {
   const auto job = std::exchange(resolve_, nullptr);
-  resolved_at_ = now;  // a failed lookup is retried no sooner than a good one
+  next_resolve_ = now + kResolveAgain;
   if (!job->error.empty()) {
-    if (address_length_ == 0) {  // nothing to dial yet: an answered failure
+    if (address_length_ == 0) {  // nothing to dial yet: an answered failure, backed off
       Failed(job->error);
-      plan_.Answered(now);
+      next_resolve_ = now + plan_.Answered(now);
     }
     return;
   }
@@ -250,9 +258,7 @@ void TunnelClient::SendHeld(Clock::time_point now) {
 
 void TunnelClient::Poll(int timeout_ms) {
   auto now = Clock::now();
-  if (!connected() && !resolve_ && (address_length_ == 0 || now - resolved_at_ >= kResolveAgain)) {
-    StartResolve();
-  }
+  if (!connected() && !resolve_ && now >= next_resolve_) StartResolve();
   if (!link_ && address_length_ > 0 && plan_.ShouldDial(now, static_cast<int>(dials_.size()))) {
     StartDial(now);
   }
@@ -266,6 +272,8 @@ void TunnelClient::Poll(int timeout_ms) {
   for (const Dial& dial : dials_) fds.push_back({dial.fd, POLLOUT, 0});
   int wait_ms = timeout_ms;
   if (resolve_) wait_ms = std::min(wait_ms, 20);  // the lookup has no descriptor to poll
+  if (!resolve_ && address_length_ == 0)
+    wait_ms = std::min(wait_ms, MillisUntil(next_resolve_, now));
   if (link_ && !connected()) wait_ms = std::min(wait_ms, MillisUntil(deadline_, now));
   for (const Dial& dial : dials_) wait_ms = std::min(wait_ms, MillisUntil(dial.deadline, now));
   if (!link_ && address_length_ > 0)

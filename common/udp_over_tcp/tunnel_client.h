@@ -10,8 +10,9 @@
 // (WireGuard and DDS repair what matters): WireGuard takes a peer's endpoint from any datagram
 // that authenticates, and these were never delivered, so they pass its replay check and the
 // hub's WireGuard answers this host at its new tunnel at once instead of after its next
-// keepalive. The hub's name is looked up on a thread of its own (again every 30 s while not
-// connected; the last address is dialled meanwhile), so no step of Poll() blocks.
+// keepalive. The hub's name is looked up on a thread of its own, so no step of Poll() blocks:
+// again every 30 s while not connected (the last address is dialled meanwhile); a failed lookup
+// with no address known yet is retried after DialPlan's backoff, not back to back.
 // Single-threaded use.
 #pragma once
 
@@ -20,6 +21,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +31,13 @@
 #include "common/udp_over_tcp/tunnel_socket.h"
 
 namespace mostar::udp_over_tcp {
+
+// Looks up HOST:PORT for a TCP connection: "" with *address and *length set, or an error
+// message. Called on a thread of its own. Tests replace it; the default is getaddrinfo.
+using NameLookup = std::function<std::string(const std::string& host, int port,
+                                             sockaddr_storage* address, socklen_t* length)>;
+std::string LookUpWithGetaddrinfo(const std::string& host, int port, sockaddr_storage* address,
+                                  socklen_t* length);
 
 struct TunnelClientOptions {
   std::string listen = "127.0.0.1:51821";  // local UDP address (IPv4) for WireGuard
@@ -44,6 +53,7 @@ struct TunnelClientOptions {
   int held_datagrams = 8;  // kept while not connected, sent first on the next connection
   StreamLinkOptions link;
   TcpTuning tcp;
+  NameLookup lookup = LookUpWithGetaddrinfo;
 };
 
 struct TunnelClientCounters {
@@ -55,6 +65,7 @@ struct TunnelClientCounters {
   uint64_t dropped_no_sender = 0;  // from the hub before WireGuard sent anything
   uint64_t connects = 0;           // connections established
   uint64_t dials = 0;              // dials started
+  uint64_t lookups = 0;            // name lookups of the hub started
   uint64_t failures = 0;           // dials that failed and connections that ended
 };
 
@@ -109,8 +120,8 @@ class TunnelClient {
   std::shared_ptr<Resolve> resolve_;  // a name lookup in flight
   sockaddr_storage address_{};        // the hub's, from the last lookup that succeeded
   socklen_t address_length_ = 0;
-  Clock::time_point resolved_at_{};
-  std::vector<Dial> dials_;  // connects in flight
+  Clock::time_point next_resolve_{};  // no lookup starts before this
+  std::vector<Dial> dials_;           // connects in flight
   DialPlan plan_;
   std::unique_ptr<StreamLink> link_;
   std::deque<std::vector<uint8_t>> held_;  // newest last, at most options_.held_datagrams

@@ -7,6 +7,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -205,6 +206,45 @@ TEST_F(TunnelTest, ASilentPathGetsANewDialEveryIntervalUntilItAnswers) {
   for (const int fd : fillers) close(fd);  // the server may now accept (and drop) them
   EXPECT_TRUE(RunUntil([&] { return client->connected(); }));
   EXPECT_EQ(client->counters().connects, 1u);
+}
+
+// A hub name that does not resolve (yet): the lookup is retried with the dial backoff, not back
+// to back, and the tunnel connects once the name resolves.
+TEST_F(TunnelTest, AFailedLookupIsRetriedWithBackoffUntilTheNameResolves) {
+  StartServer(0);
+  // Shared with the lookup's thread, which may outlive the client by a moment.
+  const auto name_known = std::make_shared<std::atomic<bool>>(false);
+  const int hub_port = server->port();
+  TunnelClientOptions options;
+  options.listen = Endpoint(0);
+  options.hub = "hub.example:" + std::to_string(hub_port);
+  options.initial_backoff_ms = 50;
+  options.max_backoff_ms = 200;
+  options.lookup = [name_known](const std::string& host, int port, sockaddr_storage* address,
+                                socklen_t* length) -> std::string {
+    if (!*name_known) return "cannot resolve " + host + ": Name or service not known";
+    return LookUpWithGetaddrinfo("127.0.0.1", port, address, length);
+  };
+  client = std::make_unique<TunnelClient>(options);
+  std::string error;
+  ASSERT_TRUE(client->Open(&error)) << error;
+
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(1)) client->Poll(5);
+  const TunnelClientCounters c = client->counters();
+  // Backoff 50, 100, 200, 200... ms: about 7 lookups in 1 s; back to back it would be ~50+.
+  EXPECT_GE(c.lookups, 3u);
+  EXPECT_LE(c.lookups, 12u);
+  EXPECT_EQ(c.dials, 0u);
+  EXPECT_THAT(client->TakeEvents(),
+              testing::Contains(testing::HasSubstr("cannot resolve hub.example")));
+
+  *name_known = true;
+  EXPECT_TRUE(RunUntil([&] { return client->connected(); }));
+  EXPECT_EQ(client->counters().connects, 1u);
+  const uint64_t after_connect = client->counters().lookups;
+  for (int i = 0; i < 50; ++i) RunUntil([] { return true; });
+  EXPECT_EQ(client->counters().lookups, after_connect);  // none while connected
 }
 
 TEST_F(TunnelTest, ServerClosesAClientThatSendsGarbage) {

@@ -117,7 +117,8 @@ int Main(int argc, char** argv) {
              std::to_string(c.dropped_no_link) + ", no sender " +
              std::to_string(c.dropped_no_sender) + "; held and sent on reconnection " +
              std::to_string(c.held_sent) + "; dials " + std::to_string(c.dials) + ", connects " +
-             std::to_string(c.connects) + ", failures " + std::to_string(c.failures);
+             std::to_string(c.connects) + ", failures " + std::to_string(c.failures) +
+             ", name lookups " + std::to_string(c.lookups);
     });
   }
   server_options.link = link;
