@@ -2,12 +2,14 @@
 #
 #   mostar-common    the example configurations, scenes, calibration and DDS profiles
 #                    (/usr/share/mostar), the PKI and overlay scripts (mostar-make-pki,
-#                    mostar-revoke, mostar-make-overlay), the WireGuard-over-TCP tunnel
-#                    (mostar_wg_tcp and its client unit), the mostar user and group
-#                    (sysusers.d) and folders (tmpfiles.d), the documentation
+#                    mostar-revoke, mostar-make-overlay, mostar-hub-endpoints), the
+#                    WireGuard-over-TCP tunnel (mostar_wg_tcp and its client unit), the
+#                    mostar user and group (sysusers.d) and folders (tmpfiles.d), the
+#                    documentation
 #   mostar-robot     robot_server, its unit and udev rules, /etc/mostar/server.pbtxt (conffile)
 #   mostar-operator  operator_client and mostar_web
-#   mostar-hub       mostar_relay and the hub's units (relay, TCP fallback server)
+#   mostar-hub       mostar_relay and the hub's units (relay, TCP fallback server, the
+#                    timer saving its peers' endpoints)
 #
 # The paths follow GNUInstallDirs; with CMAKE_INSTALL_PREFIX=/usr (the packages) the
 # configuration goes to /etc, units and udev rules to /lib as on Debian 12.
@@ -34,10 +36,11 @@ install(PROGRAMS ${PROJECT_SOURCE_DIR}/deploy/security/make_pki.sh
                  ${PROJECT_SOURCE_DIR}/deploy/security/revoke.sh
   DESTINATION ${MOSTAR_SHARE_DIR}/security COMPONENT common)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/deploy/wan/make_overlay.sh
+                 ${PROJECT_SOURCE_DIR}/deploy/wan/hub_endpoints.sh
   DESTINATION ${MOSTAR_SHARE_DIR}/wan COMPONENT common)
 # The scripts find their templates beside them (../dds) through the links.
 foreach(link mostar-make-pki:security/make_pki.sh mostar-revoke:security/revoke.sh
-             mostar-make-overlay:wan/make_overlay.sh)
+             mostar-make-overlay:wan/make_overlay.sh mostar-hub-endpoints:wan/hub_endpoints.sh)
   string(REPLACE ":" ";" link "${link}")
   list(GET link 0 name)
   list(GET link 1 target)
@@ -74,6 +77,8 @@ if(MOSTAR_BUILD_CLIENT)
   install(TARGETS mostar_relay RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT hub)
   install(FILES ${PROJECT_SOURCE_DIR}/deploy/systemd/mostar-relay.service
                 ${PROJECT_SOURCE_DIR}/deploy/systemd/mostar-wg-tcp-hub.service
+                ${PROJECT_SOURCE_DIR}/deploy/systemd/mostar-hub-endpoints.service
+                ${PROJECT_SOURCE_DIR}/deploy/systemd/mostar-hub-endpoints.timer
     DESTINATION ${MOSTAR_UNIT_DIR} COMPONENT hub)
 endif()
 
@@ -117,7 +122,8 @@ if(MOSTAR_HELP2MAN)
   endforeach()
   foreach(entry "mostar-make-pki|security/make_pki.sh|make the DDS Security PKI: CAs, certificates, permissions, host bundles"
                 "mostar-revoke|security/revoke.sh|revoke a participant's certificate and issue a new CRL"
-                "mostar-make-overlay|wan/make_overlay.sh|make the WireGuard overlay: the hub's and every peer's configuration")
+                "mostar-make-overlay|wan/make_overlay.sh|make the WireGuard overlay: the hub's and every peer's configuration"
+                "mostar-hub-endpoints|wan/hub_endpoints.sh|keep the overlay hub's peer endpoints across a restart")
     string(REPLACE "|" ";" entry "${entry}")
     list(GET entry 0 name)
     list(GET entry 1 script)

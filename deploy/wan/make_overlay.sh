@@ -26,6 +26,10 @@
 #                             NAME.tcp.conf names its local mostar_wg_tcp client
 #                             (127.0.0.1:TUNNEL_PORT) as the hub's endpoint
 #   --tunnel-port PORT        the local UDP port of that client (default 51821)
+#   --hub-state-dir DIR       where the hub keeps its peers' endpoints across a restart
+#                             (default /var/lib/mostar, the package's state folder); the
+#                             hub's config calls hub_endpoints.sh (beside this script, as
+#                             installed: /usr/share/mostar/wan) to save and restore them
 # Running it again with new names adds peers with the same hub and the same addresses for the
 # existing ones (state in OUT_DIR/peers.tsv); the hub's config is rewritten: reload it with
 # `wg syncconf mostar-hub <(wg-quick strip mostar-hub)`.
@@ -61,7 +65,7 @@ out=$1; shift
 here=$(cd "$(dirname "$(readlink -f "$0")")" && pwd)  # also through /usr/bin links
 endpoint="" subnet=10.77.0 mtu=1420 keepalive=15 robot=robot
 template="$here/../dds/overlay.xml"
-tcp_hub="" tunnel_port=51821
+tcp_hub="" tunnel_port=51821 hub_state=/var/lib/mostar
 peers=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -75,10 +79,12 @@ while [ $# -gt 0 ]; do
     --dds-template) template=$2; shift 2 ;;
     --tcp-hub) tcp_hub=$2; shift 2 ;;
     --tunnel-port) tunnel_port=$2; shift 2 ;;
+    --hub-state-dir) hub_state=$2; shift 2 ;;
     -h|--help) usage 0 ;;
     *) die "unknown option $1" ;;
   esac
 done
+endpoints_tool=$(printf %q "$here/hub_endpoints.sh") hub_state_q=$(printf %q "$hub_state")
 [ -n "$endpoint" ] || die "--hub-endpoint HOST:PORT is required"
 [[ "$endpoint" =~ ^[A-Za-z0-9.:-]+:[0-9]+$ ]] || die "--hub-endpoint must be HOST:PORT"
 [[ "$subnet" =~ ^[0-9]+\.[0-9]+\.[0-9]+$ ]] || die "--subnet must be three octets, e.g. 10.77.0"
@@ -136,6 +142,11 @@ done
   echo "ListenPort = $port"
   echo "MTU = $mtu"
   echo "PrivateKey = $(cat "$out/hub.key")"
+  echo "# Restarted, the hub knows no peer's endpoint, and a peer starts a new handshake only 15 s"
+  echo "# after the hub went silent: the endpoints are saved on the way down (and every minute by"
+  echo "# mostar-hub-endpoints.timer) and restored first thing on the way up (docs/networking.md)."
+  echo "PostUp = $endpoints_tool restore %i $hub_state_q || true"
+  echo "PreDown = $endpoints_tool save %i $hub_state_q || true"
   echo "# Forward between peers (packets that came in on this interface), never out of it."
   echo "PostUp = sysctl -qw net.ipv4.conf.%i.forwarding=1"
   echo "PostUp = nft add table inet mostar_hub; nft add chain inet mostar_hub forward '{ type filter hook forward priority 0; }'; nft add rule inet mostar_hub forward iifname %i oifname != %i drop"

@@ -104,6 +104,69 @@ cp "$tcp/robot.tcp.conf" "$work/ttcp.conf"
 check "wg-quick parses a TCP fallback peer config" 'wg-quick strip "$work/ttcp.conf" > /dev/null'
 check "without --tcp-hub no fallback files are written" '[ ! -e "$out/robot.tcp.conf" ] && [ ! -e "$out/hub.wg-tcp.env" ]'
 
+# The hub's endpoints across a restart (deploy/wan/hub_endpoints.sh) against a fake `wg` that
+# serves the files in $fake and logs every `wg set`.
+tool="$src/deploy/wan/hub_endpoints.sh"
+check "the hub restores its peers' endpoints first on the way up and saves them on the way down" \
+  '[ "$(grep -m1 "^PostUp" "$out/mostar-hub.conf")" = "PostUp = $tool restore %i /var/lib/mostar || true" ] &&
+   [ "$(grep "^PreDown" "$out/mostar-hub.conf")" = "PreDown = $tool save %i /var/lib/mostar || true" ]'
+"$gen" "$work/state" --hub-endpoint h:1 --peer robot --hub-state-dir "$work/hub state" >/dev/null
+check "--hub-state-dir names the folder, quoted for wg-quick" \
+  'grep -qF "PreDown = $tool save %i $work/hub\ state || true" "$work/state/mostar-hub.conf"'
+fake=$work/fake
+mkdir -p "$fake/bin" "$work/var"
+cat > "$fake/bin/wg" <<'FAKE'
+#!/usr/bin/env bash
+fake=$(dirname "$(dirname "$0")")
+if [ "$1" = show ]; then
+  [ -f "$fake/$3" ] && [ ! -e "$fake/down" ] || { echo "Unable to access interface" >&2; exit 1; }
+  cat "$fake/$3"
+else
+  args="$*"
+  [ "${*: -2:1}" != preshared-key ] || args="${*:1:$#-1} $(cat "${*: -1}")"
+  echo "$args" >> "$fake/set.log"
+fi
+FAKE
+chmod +x "$fake/bin/wg"
+k1=AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA= k2=BBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBBB=
+k3=CCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCCC= k4=DDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDDD=
+k5=EEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEEE= psk=PPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPPP=
+printf '%s\t%s\n' "$k1" 198.18.1.2:40000 "$k2" 198.18.2.2:50000 "$k3" "(none)" \
+  "$k4" 198.18.3.2:60000 "$k5" 198.18.2.2:50001 > "$fake/endpoints"
+endpoints() { PATH="$fake/bin:$PATH" "$tool" "$@" 2>>"$work/endpoints.log"; }
+check "save writes the interface's endpoints to the state folder" \
+  'endpoints save mostar-hub "$work/var" && cmp -s "$fake/endpoints" "$work/var/wg-mostar-hub.endpoints"'
+touch "$fake/down"
+check "a save that cannot read the interface fails and keeps the last copy" \
+  '! endpoints save mostar-hub "$work/var" && cmp -s "$fake/endpoints" "$work/var/wg-mostar-hub.endpoints" &&
+   [ ! -e "$work/var/wg-mostar-hub.endpoints.new" ]'
+rm "$fake/down"
+# After the restart: k1, k3 and k5 not yet back, k2 handshook by itself, k4 no longer a peer.
+printf '%s\t%s\n' "$k1" 0 "$k2" 1796600000 "$k3" 0 "$k5" 0 > "$fake/latest-handshakes"
+printf '%s\t%s\n' "$k1" "10.77.0.2/32" "$k2" "10.77.0.3/32" "$k3" "10.77.0.4/32" \
+  "$k5" "10.77.0.6/32 10.77.9.0/24" > "$fake/allowed-ips"
+printf '%s\t%s\n' "$k1" "(none)" "$k2" "(none)" "$k3" "(none)" "$k5" "$psk" > "$fake/preshared-keys"
+endpoints restore mostar-hub "$work/var" || true
+check "restore sets each peer not yet back again, with its endpoint, routes and a keepalive" \
+  '[ "$(cat "$fake/set.log")" = "set mostar-hub peer $k1 remove
+set mostar-hub peer $k1 allowed-ips 10.77.0.2/32 endpoint 198.18.1.2:40000 persistent-keepalive 25
+set mostar-hub peer $k5 remove
+set mostar-hub peer $k5 allowed-ips 10.77.0.6/32,10.77.9.0/24 endpoint 198.18.2.2:50001 persistent-keepalive 25 preshared-key $psk" ]'
+check "restore says how many it restored" 'grep -q "2 peer endpoints restored on mostar-hub" "$work/endpoints.log"'
+rm "$fake/set.log"
+check "without a saved copy restore does nothing and succeeds" \
+  'endpoints restore other "$work/var" && [ ! -e "$fake/set.log" ]'
+hook=$(grep -m1 "^PostUp = " "$work/state/mostar-hub.conf" | sed "s/^PostUp = //")
+touch "$fake/down"
+mkdir -p "$work/hub state"
+cp "$work/var/wg-mostar-hub.endpoints" "$work/hub state/"
+# wg-quick evaluates each hook under set -e (a bash of its own here: `if` would suspend -e).
+hook_run() { PATH="$fake/bin:$PATH" bash -ec 'eval "$1"' _ "${1//%i/mostar-hub}" 2>/dev/null; }
+check "the PostUp hook as wg-quick runs it never fails the overlay's start" 'hook_run "$hook"'
+check "(a check that can fail: without its || true the hook fails, wg cannot read the interface)" \
+  '! hook_run "${hook% || true}"'
+rm -f "$fake/down"
+
 refused() {  # expected message part, arguments...
   local want=$1; shift
   local msg

@@ -200,7 +200,8 @@ overlay_up() {
   [ "$via" != relay ] || observer_kind=--observer
   "$src/deploy/wan/make_overlay.sh" "$run/overlay" --hub-endpoint 198.18.0.10:51820 \
     --peer robot --peer pilot "$observer_kind" obs1 "$observer_kind" obs2 "${fallback[@]}" \
-    --dds-template "${DDS_TEMPLATE:-$src/deploy/dds/overlay.xml}" >/dev/null || return 1
+    --dds-template "${DDS_TEMPLATE:-$src/deploy/dds/overlay.xml}" --hub-state-dir "$run" \
+    >/dev/null || return 1
   if [ "$transport" = tcp ]; then
     # UDP really is blocked: a probe from the robot's LAN is dropped (and counted) by NAT A.
     ip netns exec "${prefix}_robot" bash -c 'echo probe > /dev/udp/198.18.0.10/9' || true

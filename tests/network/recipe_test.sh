@@ -12,9 +12,13 @@
 # Also: the robot's service and carol's console started before their overlays (boot order),
 # the robot's overlay restarted under the running server (wg-quick down, up), and a second
 # observer, dave behind NAT C, added while everything runs (the scripts again with his name,
-# `wg syncconf` on the hub).
+# `wg syncconf` on the hub), then the hub restarted (its relay stopped with its overlay and
+# started after it, as the units' BindsTo and WantedBy do; the hub's state folder, where it
+# keeps its peers' endpoints across the restart, is $work/var instead of /var/lib/mostar).
 # Checked: each --check-config as the recipe runs it (the robot's before its overlay names only
-# the missing address); the pilot gets the lease and drives, also after the overlay restart;
+# the missing address); the pilot gets the lease and drives, also after the overlay restart
+# and after the hub's restart (within 12 s: without the endpoints kept, the peers' WireGuard
+# starts a new handshake only 15 s after the hub went silent);
 # alice, carol and dave decode video through the relay; the robot has one reader of its H.264
 # stream.
 #
@@ -77,7 +81,7 @@ bin=$root/usr/bin
 share=$root/usr/share/mostar
 etc=$work/etc/mostar
 pki_dir=$etc/pki
-mkdir -p "$pki_dir"
+mkdir -p "$pki_dir" "$work/var"
 domain=$((100 + RANDOM % 100))
 observer_domain=$((domain + 1))
 
@@ -86,7 +90,8 @@ ns() { echo "${prefix}_$1"; }  # hub robot pilot (alice) obs1 (carol) obs2 (dave
 
 # --- 1. the administrator's computer: overlay, then PKI
 "$bin/mostar-make-overlay" "$work/site/overlay" --hub-endpoint 198.18.0.10:51820 \
-  --peer robot --peer alice --observer carol >"$work/make_overlay.log" 2>&1 ||
+  --peer robot --peer alice --observer carol --hub-state-dir "$work/var" \
+  >"$work/make_overlay.log" 2>&1 ||
   fail_now "mostar-make-overlay"
 "$bin/mostar-make-pki" "$work/site/pki" --profile-dir "$work/site/overlay" \
   --install-dir "$pki_dir" --robot robot --pilot alice --observer carol --relay hub \
@@ -100,10 +105,14 @@ ip netns exec "$(ns hub)" wg-quick up "$(wg_conf mostar-hub.conf hub)" >"$work/w
   fail_now "the hub's overlay"
 passes "the relay's --check-config passes" \
   ip netns exec "$(ns hub)" "$bin/mostar_relay" --check-config --dds-profile "$pki_dir/hub.xml"
-ip netns exec "$(ns hub)" "$bin/mostar_relay" --dds-profile "$pki_dir/hub.xml" \
-  --robot-domain "$domain" --observer-domain "$observer_domain" --video-repair-period-ms 250 \
-  >"$work/relay.log" 2>&1 &
-pids+=($!)
+relay() {  # mostar-relay.service's ExecStart line
+  ip netns exec "$(ns hub)" "$bin/mostar_relay" --dds-profile "$pki_dir/hub.xml" \
+    --robot-domain "$domain" --observer-domain "$observer_domain" --video-repair-period-ms 250 \
+    >>"$work/relay.log" 2>&1 &
+  relay_pid=$!
+  pids+=("$relay_pid")
+}
+relay
 
 # --- 3. the robot: its configuration from the simulator example, started before its overlay
 cp "$share/config/server_sim_h264.pbtxt" "$etc/server.pbtxt"
@@ -142,7 +151,7 @@ alice=(--dds-profile "$pki_dir/alice.xml" --role pilot --video-via-relay --domai
 carol=(--dds-profile "$pki_dir/carol.xml" --role observer --domain "$observer_domain")
 passes "alice's --check-config passes" \
   ip netns exec "$(ns pilot)" "$bin/operator_client" "${alice[@]}" --headless --check-config
-duration=30  # s: the consoles then end by themselves and print their reports
+duration=45  # s: the consoles then end by themselves and print their reports
 console_pids=()
 console() {  # namespace, log, arguments...
   local n=$1 log=$2 seconds=${console_seconds:-$duration}
@@ -156,7 +165,7 @@ console() {  # namespace, log, arguments...
 console "$(ns pilot)" "$work/alice.log" "${alice[@]}" --drive 0.1,0 --trace "$work/alice.csv"
 # carol's console starts before her overlay (a laptop whose WireGuard comes up later): it waits
 # for its address, then watches like the others.
-console "$(ns obs1)" "$work/carol.log" "${carol[@]}"
+console "$(ns obs1)" "$work/carol.log" "${carol[@]}" --trace "$work/carol.csv"
 check "carol's console waits for her overlay address" \
   'wait_for "grep -q \"waiting up to .* for address\" \"$work/carol.log\"" 150'
 ip netns exec "$(ns obs1)" wg-quick up "$(wg_conf carol.conf carol)" >"$work/wg_carol.log" 2>&1 ||
@@ -171,7 +180,7 @@ check "alice gets the lease and drives" 'wait_for "drove_after 0" 400'
 # --- 5. an observer added later (dave, behind NAT C): steps 1, 2 (the hub's peers reloaded)
 # and 4 for him alone; the relay, the robot and the other consoles keep running.
 "$bin/mostar-make-overlay" "$work/site/overlay" --hub-endpoint 198.18.0.10:51820 \
-  --observer dave >>"$work/make_overlay.log" 2>&1 || fail_now "mostar-make-overlay adding dave"
+  --observer dave --hub-state-dir "$work/var" >>"$work/make_overlay.log" 2>&1 || fail_now "mostar-make-overlay adding dave"
 "$bin/mostar-make-pki" "$work/site/pki" --profile-dir "$work/site/overlay" --observer dave \
   >>"$work/make_pki.log" 2>&1 || fail_now "mostar-make-pki adding dave"
 cp "$work/site/pki/hosts/dave/"* "$pki_dir/"
@@ -197,15 +206,40 @@ if drove_after "$back_ns"; then
 fi
 check "robot_server kept running" 'kill -0 "$robot_pid" 2>/dev/null'
 
+# --- the hub restarted: `systemctl restart wg-quick@mostar-hub` stops the relay first (BindsTo),
+# and starts it again once the overlay is up (WantedBy).
+kill "$relay_pid"
+wait_for "! kill -0 $relay_pid 2>/dev/null" 50 || fail_now "the relay did not end within 5 s of SIGTERM"
+ip netns exec "$(ns hub)" wg-quick down "$work/w${tag}hub.conf" >>"$work/wg_hub.log" 2>&1
+check "the hub kept its four peers' endpoints" \
+  '[ "$(awk "\$2 != \"(none)\"" "$work/var/wg-w${tag}hub.endpoints" 2>/dev/null | wc -l)" = 4 ]'
+sleep 3
+hub_back_ns=$(date +%s%N)
+ip netns exec "$(ns hub)" wg-quick up "$work/w${tag}hub.conf" >>"$work/wg_hub.log" 2>&1 ||
+  fail_now "the hub's overlay did not come back"
+relay
+check "alice drives again within 12 s of the hub's restart" 'wait_for "drove_after $hub_back_ns" 120'
+if drove_after "$hub_back_ns"; then
+  first=$(awk -F, -v t="$hub_back_ns" '$1 == "drive_out_mmps" && $2 > t && $3 > 0 { print $2; exit }' "$work/server.csv")
+  echo "measured: driving again $(( (first - hub_back_ns) / 1000000 )) ms after the hub came back"
+fi
+
 # --- the end: the consoles' reports once their --duration is over
 for p in "${console_pids[@]}"; do
   wait_for "! kill -0 $p 2>/dev/null" $(( (duration + 30) * 10 )) || true
 done
-# Video back at alice after the robot's overlay restart: her first image captured after it.
-video_back=$(awk -F, -v t="$back_ns" '$1 == "left_rx" && $3 > t { print $2; exit }' \
-  "$work/alice.csv" 2>/dev/null || true)
-[ -z "$video_back" ] ||
-  echo "measured: video back $(( (video_back - back_ns) / 1000000 )) ms after the overlay came back"
+# Video back after a restart: the first image captured after it, at alice and at carol.
+video_back() {  # trace, epoch ns: ms from then to the first image captured after it, or ""
+  local t
+  t=$(awk -F, -v t="$2" '$1 == "left_rx" && $3 > t { print $2; exit }' "$1" 2>/dev/null || true)
+  [ -z "$t" ] || echo $(( (t - $2) / 1000000 ))
+}
+v=$(video_back "$work/alice.csv" "$back_ns")
+[ -z "$v" ] || echo "measured: video back $v ms after the overlay came back"
+for who in alice carol; do
+  v=$(video_back "$work/$who.csv" "$hub_back_ns")
+  check "video is back at $who after the hub's restart (${v:-never} ms)" '[ -n "$v" ]'
+done
 pairs() { sed -n 's/.* pairs_decoded=\([0-9]*\).*/\1/p' "$1" | tail -1; }
 a=$(pairs "$work/alice.log"); c=$(pairs "$work/carol.log"); d=$(pairs "$work/dave.log")
 # Video flows to each (a count, not a rate: a loaded machine decodes a few pairs per second).

@@ -119,6 +119,9 @@ step "PKI and overlay scripts from /usr/bin, the role table against the PKI"
 out=$(in_root 'mostar-make-pki /tmp/pki --robot robot --pilot alice --relay hub >/dev/null
   mostar-make-overlay /tmp/overlay --hub-endpoint hub.example.org:51820 --peer robot --peer alice >/dev/null
   [ -f /tmp/overlay/robot.conf ] && [ -f /tmp/pki/hosts/robot/roles ] || { echo "scripts made no files"; exit 1; }
+  tool=$(sed -n "s/^PreDown = \([^ ]*\) save .*/\1/p" /tmp/overlay/mostar-hub.conf)
+  [ "$tool" = /usr/share/mostar/wan/hub_endpoints.sh ] && [ -x "$tool" ] && mostar-hub-endpoints --help >/dev/null ||
+    { echo "the hub config calls ${tool:-no} endpoint keeper"; exit 1; }
   robot_server --check-config --config /etc/mostar/sim.pbtxt --dds-profile /tmp/pki/hosts/robot/robot.xml || echo "status=$?"' 2>&1) ||
   { echo "$out" >&2; fail "scripts"; }
 for want in "status=1" "'alice' holds a pilot certificate" "'operator' has no certificate"; do
