@@ -19,6 +19,7 @@
 #include "common/process/restart_in_place.h"
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
+#include "operator_client/client_command_line.h"
 #include "operator_client/client_config.pb.h"
 #include "operator_client/client_options.h"
 #include "operator_client/net/client_inbox.h"
@@ -28,6 +29,7 @@
 #include "operator_client/render/stereo_compositor.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/operator_console.h"
+#include "operator_client/ui/run_end.h"
 #include "operator_client/ui/run_report.h"
 #include "operator_client/ui/window.h"
 #include "operator_client/video/stereo_receiver.h"
@@ -38,125 +40,42 @@ namespace {
 
 int Run(int argc, char** argv) {
   CLI::App app{"operator_client: stereoscopic AR view of the robot and driving console."};
-  int domain = -1;
-  std::string dds_profile = "loopback";
-  ClientFlags flags;
-  std::string config_path;
-  int max_frames = 0;
-  double duration_s = 0;
-  std::string screenshot;
-  int64_t capture_stamp_ns = -1;
-  int capture_after = -1;
-  std::vector<double> scripted_drive;
-  std::string trace_path;
-  std::string record_path;
-  std::string log_level = "info";
-  bool video_via_relay = false;
-  int video_domain = -1;
-  app.add_option("--domain", domain, "DDS domain id (default: MOSTAR_DDS_DOMAIN, then 0)")
-      ->check(CLI::Range(0, 232));
-  app.add_option("--dds-profile", dds_profile, "'loopback' or a Fast DDS XML profiles file");
-  auto* via_relay_option = app.add_flag(
-      "--video-via-relay", video_via_relay,
-      "take the camera streams from mostar_relay (participant profile 'operator_video' of "
-      "--dds-profile, on --video-domain), so that the robot's uplink carries the video once; "
-      "commands, e-stop, lease, clock, scans and the rest stay direct");
-  app.add_option("--video-domain", video_domain,
-                 "with --video-via-relay: the relay's observer domain (default --domain + 1)")
-      ->check(CLI::Range(0, 232))
-      ->needs(via_relay_option);
-  auto* id_option = app.add_option(
-      "--id", flags.client_id,
-      "this client's id (shown in the lease); with DDS Security the CN of its certificate, "
-      "which is also the default");
-  app.add_flag("--insecure", flags.insecure,
-               "allow a network DDS profile without DDS Security (anyone on the network can "
-               "watch and drive; docs/security.md)");
-  app.add_option("--role", flags.role, "pilot | observer")
-      ->check(CLI::IsMember({"pilot", "observer"}));
-  int ignored_strength = 0;
-  app.add_option("--strength", ignored_strength,
-                 "ignored (accepted for old scripts): the robot's role table gives strengths and "
-                 "cmd_vel ownership is shared");
-  app.add_option("--display", flags.display,
-                 "mono-left | mono-right | anaglyph | anaglyph-color | sbs | sbs-half | "
-                 "top-bottom | interlaced | quad-buffer");
-  app.add_option("-c,--config", config_path, "client configuration (protobuf text format)")
-      ->check(CLI::ExistingFile);
-  app.add_option("--calibration", flags.calibration_path,
-                 "laser-camera calibration profile (protobuf text); the panel saves here");
-  app.add_flag("--calibration-panel", flags.calibration_panel,
-               "open the calibration panel at start");
-  app.add_flag("--headless", flags.headless,
-               "hidden window; render to --screenshot (needs an X server, e.g. xvfb-run)");
-  app.add_option("--frames", max_frames, "exit after rendering this many video frames")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--duration", duration_s, "exit after this many seconds")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--screenshot", screenshot, "write the last rendered frame to this PNG");
-  auto* capture_stamp_option =
-      app.add_option("--capture-stamp", capture_stamp_ns,
-                     "render only the pair with this capture stamp (ns since the epoch) once its "
-                     "scans are in, write it to --screenshot and exit (reproducible screenshots)")
-          ->check(CLI::NonNegativeNumber);
-  app.add_option("--capture-after", capture_after,
-                 "like --capture-stamp for the first pair decoded after this many; the report "
-                 "gives its stamp (captured_stamp_ns)")
-      ->check(CLI::NonNegativeNumber)
-      ->excludes(capture_stamp_option);
-  app.add_option("--window-size", flags.window_size,
-                 "window size WIDTHxHEIGHT in pixels (default: the image's, doubled in width "
-                 "for sbs)")
-      ->expected(2)
-      ->delimiter('x');
-  app.add_flag("--no-hud", flags.no_hud, "hide the HUD (changing rates and ages; H toggles it)");
-  app.add_option("--drive", scripted_drive, "scripted command V,W (m/s, rad/s) held throughout")
-      ->expected(2)
-      ->delimiter(',');
-  app.add_option("--trace", trace_path, "write received stamps and sent commands to this CSV");
-  app.add_option("--record", record_path,
-                 "record everything received (and the commands sent) to this file");
-  app.add_option("--log-level", log_level, "debug | info | warning | error")
-      ->check(CLI::IsMember({"debug", "info", "warning", "error"}));
-  bool check_config = false;
-  app.add_flag("--check-config", check_config,
-               "check the configuration, calibration, DDS profile (certificates, addresses), "
-               "client id and display, print each problem with its fix, and exit: 0 when all is "
-               "well");
+  ClientCommandLine line;
+  AddClientOptions(&app, &line);
   CLI11_PARSE(app, argc, argv);
-  flags.client_id_given = id_option->count() > 0;
+  const ClientFlags& flags = line.flags;
   LogLevel level;
-  ParseLogLevel(log_level, &level);
+  ParseLogLevel(line.log_level, &level);
   SetLogLevel(level);
 
   std::string error;
   dds::ParticipantOptions dds_options;
-  dds_options.domain_id = domain >= 0 ? domain : dds::DomainIdFromEnvironment(0);
-  dds_options.profile = dds_profile;
+  dds_options.domain_id = line.domain >= 0 ? line.domain : dds::DomainIdFromEnvironment(0);
+  dds_options.profile = line.dds_profile;
   dds_options.name = "operator";
   dds_options.insecure = flags.insecure;
   // Started before its overlay (a laptop whose WireGuard comes up after the console): wait for
   // the profile's addresses, logged, rather than run unreachable or give up.
   dds_options.wait_for_interfaces = std::chrono::seconds(60);
   dds::ParticipantOptions video_dds_options;
-  if (video_via_relay &&
-      !VideoThroughRelayOptions(dds_options, video_domain, &video_dds_options, &error)) {
+  if (line.video_via_relay &&
+      !VideoThroughRelayOptions(dds_options, line.video_domain, &video_dds_options, &error)) {
     std::cerr << "operator_client: " << error << "\n";
     return 2;
   }
-  if (check_config) {
+  if (line.check_config) {
     ConfigReport report;
-    CheckConsoleConfig(config_path, flags, dds_options,
-                       video_via_relay ? &video_dds_options : nullptr, &report);
+    CheckConsoleConfig(line.config_path, flags, dds_options,
+                       line.video_via_relay ? &video_dds_options : nullptr, &report);
     return report.Print("operator_client", std::cout);
   }
   ClientConfig config;
-  if (!config_path.empty() && !LoadTextConfig(config_path, &config, &error)) {
+  if (!line.config_path.empty() && !LoadTextConfig(line.config_path, &config, &error)) {
     std::cerr << "operator_client: bad configuration: " << error << "\n";
     return 2;
   }
   ui::ConsoleOptions console_options;
-  if (!ConsoleOptionsFromConfig(config, DirectoryOf(config_path), &console_options, &error)) {
+  if (!ConsoleOptionsFromConfig(config, DirectoryOf(line.config_path), &console_options, &error)) {
     std::cerr << "operator_client: bad configuration: " << error << "\n";
     return 2;
   }
@@ -166,8 +85,8 @@ int Run(int argc, char** argv) {
   }
   const bool headless = flags.headless;
   StampTrace trace;
-  if (!trace.Open(trace_path)) {
-    std::cerr << "operator_client: cannot write " << trace_path << "\n";
+  if (!trace.Open(line.trace_path)) {
+    std::cerr << "operator_client: cannot write " << line.trace_path << "\n";
     return 2;
   }
   if (!headless && std::getenv("DISPLAY") == nullptr && std::getenv("WAYLAND_DISPLAY") == nullptr) {
@@ -183,7 +102,7 @@ int Run(int argc, char** argv) {
   // The camera streams through mostar_relay: a second participant, same identity, on the
   // relay's observer domain.
   std::unique_ptr<dds::Participant> video_participant;
-  if (video_via_relay) {
+  if (line.video_via_relay) {
     video_participant = dds::Participant::Create(video_dds_options, &error);
     if (!video_participant) {
       std::cerr << "operator_client: video through the relay: " << error << "\n";
@@ -192,21 +111,20 @@ int Run(int argc, char** argv) {
   }
   if (!ResolveClientId(flags, participant->secure(), participant->own_client_id(),
                        &console_options.client_id, &error)) {
-    std::cerr << "operator_client: " << dds_profile << ": " << error << "\n";
+    std::cerr << "operator_client: " << line.dds_profile << ": " << error << "\n";
     return 2;
   }
   const std::string& client_id = console_options.client_id;
   console_options.dds_security_off = participant->security_off();
-  console_options.keep_last_frame =
-      !screenshot.empty() || capture_stamp_ns >= 0 || capture_after >= 0;
+  console_options.keep_last_frame = !line.screenshot.empty() || line.capture();
 
   const Clock* clock = &SystemClock::Instance();
   std::unique_ptr<record::RecordingWriter> recorder;
-  if (!record_path.empty()) {
+  if (!line.record_path.empty()) {
     record::RecordingInfo info;
     info.robot_id = "recorded by " + client_id;
     info.calibration_text = math::ToProto(console_options.calibration, "in force").DebugString();
-    recorder = record::RecordingWriter::Open(record_path, {}, info, *clock, &error);
+    recorder = record::RecordingWriter::Open(line.record_path, {}, info, *clock, &error);
     if (!recorder) {
       std::cerr << "operator_client: cannot record: " << error << "\n";
       return 2;
@@ -289,10 +207,9 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
-  const bool capture = capture_stamp_ns >= 0 || capture_after >= 0;
-  if (capture_stamp_ns >= 0) console.CapturePair(FromUnixNanos(capture_stamp_ns));
-  if (scripted_drive.size() == 2) {
-    console.SetScriptedDrive({scripted_drive[0], scripted_drive[1], true});
+  if (line.capture_stamp_ns >= 0) console.CapturePair(FromUnixNanos(line.capture_stamp_ns));
+  if (line.scripted_drive.size() == 2) {
+    console.SetScriptedDrive({line.scripted_drive[0], line.scripted_drive[1], true});
   }
   MOSTAR_LOG(INFO) << "operator_client '" << client_id << "' (" << flags.role << ") on DDS domain "
                    << dds_options.domain_id
@@ -303,6 +220,7 @@ int Run(int argc, char** argv) {
                    << render::DisplayModeName(console_options.mode);
   commands.Start();
   InstallStopSignals();
+  const ui::RunLimits limits{static_cast<uint64_t>(line.max_frames), FromSeconds(line.duration_s)};
   const SteadyTime start = clock->SteadyNow();
   // The overlay's address gone and back is logged; a new address means restarting in place.
   dds::NetworkCheck network_check({participant.get(), video_participant.get()});
@@ -313,14 +231,14 @@ int Run(int argc, char** argv) {
       RequestRestart();
       break;
     }
-    if (capture_after >= 0 && !console.capturing() &&
-        video.Stats().pairs_decoded >= static_cast<uint64_t>(capture_after)) {
+    if (ui::CaptureAfterDue(line.capture_after, console.capturing(), video.Stats().pairs_decoded)) {
       console.CapturePair(std::nullopt);
     }
     if (!console.Frame() && headless) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    if (console.captured()) break;
-    if (max_frames > 0 && console.rendered_pairs() >= static_cast<uint64_t>(max_frames)) break;
-    if (duration_s > 0 && clock->SteadyNow() - start > FromSeconds(duration_s)) break;
+    if (ui::CheckRunEnd(limits, console.captured(), console.rendered_pairs(),
+                        clock->SteadyNow() - start) != ui::RunEnd::kRunning) {
+      break;
+    }
   }
   {  // Fast DDS 2.9 can block here; end within 2 s of SIGTERM anyway (status 4, no report)
     const ExitDeadline deadline(FromMilliseconds(1500), 4, "operator_client", "DDS teardown");
@@ -334,36 +252,15 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: recording: " << error << "\n";
   }
   trace.Flush();
-  if (capture && !console.captured()) {
-    std::cerr << "operator_client: the pair to capture was not rendered"
-              << (console.captured_stamp() ? " (its scans or edge result did not arrive)"
-                                           : " (it did not arrive)")
-              << "; no screenshot written\n";
-  } else if (!screenshot.empty()) {
-    if (console.last_frame().empty()) {
-      std::cerr << "operator_client: no video frame was rendered; no screenshot written\n";
-    } else if (!cv::imwrite(screenshot, console.last_frame())) {
-      std::cerr << "operator_client: cannot write " << screenshot << "\n";
-    }
+  const ui::ScreenshotPlan shot =
+      ui::PlanScreenshot(line.screenshot, line.capture(), console.captured(),
+                         console.captured_stamp().has_value(), !console.last_frame().empty());
+  if (!shot.problem.empty()) std::cerr << "operator_client: " << shot.problem << "\n";
+  if (shot.write && !cv::imwrite(line.screenshot, console.last_frame())) {
+    std::cerr << "operator_client: cannot write " << line.screenshot << "\n";
   }
-  ui::ConsoleRunTotals totals;
-  totals.rendered_frames = console.rendered_pairs();
-  totals.scripted_rearms = console.scripted_rearms();
-  totals.scans = robot.Snapshot().scans;
-  totals.commands_sent = commands.commands_sent();
-  totals.run_s = ToSeconds(clock->SteadyNow() - start);
-  totals.display_age_ms_p50 = console.DisplayAgePercentileMs(50);
-  totals.display_age_ms_p95 = console.DisplayAgePercentileMs(95);
-  totals.frame_time_ms_p50 = console.FrameTimePercentileMs(50);
-  totals.frame_time_ms_p95 = console.FrameTimePercentileMs(95);
-  if (console.captured()) totals.captured_stamp_ns = ToUnixNanos(*console.captured_stamp());
-  totals.sonar_echoes = console.sonar_echoes();
-  totals.sonar_unseen = console.sonar_unseen();
-  totals.overlays_moved = console.shown().overlays_moved();
-  totals.overlays_faded = console.shown().overlays_faded();
-  totals.latency = console.latency().Rows();
-  std::cout << ui::FormatRunReport(totals, video.Stats());
-  return capture && !console.captured() ? 1 : 0;
+  std::cout << ui::FormatRunReport(console.RunTotals(clock->SteadyNow() - start), video.Stats());
+  return shot.exit_status;
 }
 
 }  // namespace

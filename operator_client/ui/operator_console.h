@@ -37,6 +37,7 @@
 #include "operator_client/ui/pair_tracer.h"
 #include "operator_client/ui/panels/edge_view_panel.h"
 #include "operator_client/ui/rearm_guide.h"
+#include "operator_client/ui/run_report.h"
 #include "operator_client/ui/shown_pair_stats.h"
 #include "operator_client/ui/stereo_hint.h"
 #include "operator_client/ui/vision_settings.h"
@@ -115,6 +116,8 @@ class OperatorConsole {
   // The options in force (after Init: with the alignment from the calibration profile).
   const ConsoleOptions& options() const { return options_; }
   const ShownPairStats& shown() const { return shown_; }
+  // What this run counted, for its report line; `run` is the render loop's length.
+  ConsoleRunTotals RunTotals(Duration run) const;
   // Holds a fixed command (for scripted/headless runs); keyboard and gamepad are then ignored.
   // The console first waits to hold the lease, then arms (LeaseClient::armed), then drives.
   void SetScriptedDrive(const DriveOutput& drive) { scripted_drive_ = drive; }

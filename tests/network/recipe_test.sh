@@ -190,7 +190,7 @@ ip netns exec "$(ns hub)" bash -c "wg syncconf w${tag}hub <(wg-quick strip '$hub
 ip netns exec "$(ns obs2)" wg-quick up "$(wg_conf dave.conf dave)" >"$work/wg_dave.log" 2>&1 ||
   fail_now "dave's overlay"
 handshake dave
-console_seconds=20 console "$(ns obs2)" "$work/dave.log" \
+console_seconds=35 console "$(ns obs2)" "$work/dave.log" \
   --dds-profile "$pki_dir/dave.xml" --role observer --domain "$observer_domain"
 
 # --- the robot's overlay restarted under the running server
