@@ -3,7 +3,7 @@
 # knows no peer's endpoint (WireGuard learns them from the peers' packets), and a peer starts a
 # new handshake only when the hub has not answered for 15 s; so the endpoints are saved while
 # the interface runs and restored when it comes back, with a keepalive that makes the hub start
-# every handshake at once, through the peers' NAT mappings (docs/networking.md, "Restarts").
+# every handshake at once, through the peers' NAT mappings (docs/networking.md, "Restarts of the hub").
 # The hub's config (mostar-make-overlay) calls it from wg-quick: `restore` first of all PostUp,
 # `save` as PreDown; mostar-hub-endpoints.timer saves every minute (a crash keeps that copy).
 #
@@ -15,7 +15,10 @@
 #             that a handshake attempted before the restore, without an endpoint, does not
 #             hold the new one back for WireGuard's 5 s), with the saved endpoint and a
 #             persistent keepalive of 25 s, which starts the handshake. A missing file or an
-#             unknown peer is no error: the hub then learns endpoints as it always does.
+#             unknown peer is no error: the hub then learns endpoints as it always does. A saved
+#             line whose endpoint is not ADDRESS:PORT is skipped and said (the peer is left as
+#             wg-quick made it); a peer that cannot be set again gets its routes back without
+#             an endpoint, so no peer is ever lost from the hub.
 # Exit status: 0, or 1 with a message when the interface cannot be read or set (a restore that
 # fails leaves the hub as wg-quick made it: never a reason to fail wg-quick up).
 set -euo pipefail
@@ -25,6 +28,7 @@ case "${1:-}" in -h | --help) usage 0 ;; esac
 [ $# -eq 3 ] || usage
 action=$1 interface=$2 dir=$3
 file=$dir/wg-$interface.endpoints
+[ -d "$dir" ] || { echo "hub_endpoints.sh: no folder $dir (STATE_DIR)" >&2; exit 1; }
 
 case $action in
   save)
@@ -45,18 +49,23 @@ case $action in
       if [ -z "$endpoint" ] || [ "$endpoint" = "(none)" ]; then continue; fi
       handshake=$(awk -v k="$key" '$1 == k { print $2 }' <<<"$handshakes")
       [ "$handshake" = 0 ] || continue  # not a peer any more, or already back by itself
+      if ! [[ "$endpoint" =~ ^([0-9.]+|\[[0-9A-Fa-f:.]+\]):[0-9]+$ ]]; then
+        echo "hub_endpoints.sh: $file: '$endpoint' is no ADDRESS:PORT; peer $key skipped" >&2
+        continue
+      fi
       ips=$(awk -v k="$key" '$1 == k { $1 = ""; print }' <<<"$allowed" | xargs | tr ' ' ',')
       [ "$ips" != "(none)" ] || ips=""
       psk=$(awk -v k="$key" '$1 == k { print $2 }' <<<"$preshared")
+      psk_args=()
+      if [ -n "$psk" ] && [ "$psk" != "(none)" ]; then psk_args=(preshared-key /dev/stdin); fi
       wg set "$interface" peer "$key" remove
-      if [ -n "$psk" ] && [ "$psk" != "(none)" ]; then
-        wg set "$interface" peer "$key" allowed-ips "$ips" endpoint "$endpoint" \
-          persistent-keepalive 25 preshared-key <(echo "$psk")
+      if wg set "$interface" peer "$key" allowed-ips "$ips" endpoint "$endpoint" \
+          persistent-keepalive 25 "${psk_args[@]}" <<<"$psk"; then
+        restored=$((restored + 1))
       else
-        wg set "$interface" peer "$key" allowed-ips "$ips" endpoint "$endpoint" \
-          persistent-keepalive 25
+        echo "hub_endpoints.sh: peer $key not restored; set again without its endpoint" >&2
+        wg set "$interface" peer "$key" allowed-ips "$ips" "${psk_args[@]}" <<<"$psk"
       fi
-      restored=$((restored + 1))
     done <"$file"
     echo "hub_endpoints.sh: $restored peer endpoints restored on $interface from $file" >&2
     ;;

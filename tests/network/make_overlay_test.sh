@@ -125,6 +125,7 @@ else
   args="$*"
   [ "${*: -2:1}" != preshared-key ] || args="${*:1:$#-1} $(cat "${*: -1}")"
   echo "$args" >> "$fake/set.log"
+  [[ "$args" != *"endpoint 198.18.9.9:1 "* ]] || exit 1  # a peer WireGuard refuses to set
 fi
 FAKE
 chmod +x "$fake/bin/wg"
@@ -156,6 +157,20 @@ check "restore says how many it restored" 'grep -q "2 peer endpoints restored on
 rm "$fake/set.log"
 check "without a saved copy restore does nothing and succeeds" \
   'endpoints restore other "$work/var" && [ ! -e "$fake/set.log" ]'
+# A damaged copy: one endpoint that is no address (skipped, the peer untouched), one that
+# WireGuard refuses (the peer keeps its routes, without an endpoint): no peer is lost.
+printf '%s\t%s\n' "$k1" "bad;endpoint" "$k3" 198.18.9.9:1 > "$work/var/wg-damaged.endpoints"
+: > "$work/endpoints.log"
+endpoints restore damaged "$work/var" || true
+check "a damaged saved copy never costs the hub a peer" \
+  '[ "$(cat "$fake/set.log")" = "set damaged peer $k3 remove
+set damaged peer $k3 allowed-ips 10.77.0.4/32 endpoint 198.18.9.9:1 persistent-keepalive 25
+set damaged peer $k3 allowed-ips 10.77.0.4/32" ] &&
+   grep -q "is no ADDRESS:PORT; peer $k1 skipped" "$work/endpoints.log" &&
+   grep -q "peer $k3 not restored" "$work/endpoints.log"'
+rm -f "$fake/set.log"
+check "a missing state folder is named" \
+  '! endpoints save mostar-hub "$work/nowhere" && grep -q "no folder $work/nowhere" "$work/endpoints.log"'
 hook=$(grep -m1 "^PostUp = " "$work/state/mostar-hub.conf" | sed "s/^PostUp = //")
 touch "$fake/down"
 mkdir -p "$work/hub state"
