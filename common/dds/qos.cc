@@ -95,6 +95,15 @@ fdds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period) {
 fdds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period, int32_t depth) {
   fdds::DataWriterQos qos = VideoWriterQos(repair_period);
   qos.history().depth = std::max<int32_t>(1, depth);
+  // Periodic heartbeats only. Once `depth` access units are held the history is full after
+  // every write, and Fast DDS 2.9 would piggyback a heartbeat on every message it sends, repairs
+  // included; each one makes a reader ask again for every fragment it still misses, also those
+  // already sent again and on their way (NACK_FRAG has no suppression), so one loss burst on a
+  // full link multiplies into a repair storm that starves everything else on that link.
+  // (No nackSupressionDuration: Fast DDS 2.9 restarts its one timer per reader at every send, so
+  // with a write every 33 ms a period of about the round trip would never expire and no NACK
+  // would be answered while the stream flows.)
+  qos.reliable_writer_qos().disable_heartbeat_piggyback = true;
   return qos;
 }
 

@@ -52,7 +52,9 @@ eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 // The H.264 stream (rt/mostar/camera/stereo/h264): every access unit matters (a lost one breaks
 // the pictures until the next IDR), so reliable, keep last `depth` (> 0) access units, which
 // bounds memory and never blocks the writer: a reader that falls that far behind loses the
-// oldest, sees the gap in the AU numbers and asks for an IDR. Heartbeat every `repair_period`.
+// oldest, sees the gap in the AU numbers and asks for an IDR. Heartbeat every `repair_period`
+// and never after a write or a repair: a reader asks for what it misses once per period (see
+// VideoWriterQos on the round trip), not once per message (video_stream_qos_test.cc).
 eprosima::fastdds::dds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period,
                                                            int32_t depth);
 eprosima::fastdds::dds::DataReaderQos VideoStreamReaderQos(int32_t depth);

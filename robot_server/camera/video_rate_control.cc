@@ -54,9 +54,9 @@ double VideoRateControl::Target(double class_target, SteadyTime now) {
     const double t = viewer.controller.stats().target_bits_per_s;
     target = target > 0 ? std::min(target, t) : t;
   }
-  // Nobody has told the link yet (start, or every viewer quiet after an outage): start where
-  // a new viewer's controller starts rather than fill a link of unknown size.
-  if (!heard && target > 0) target *= options_.link.start_fraction;
+  // Nobody has told the link yet (start, or every viewer quiet after an outage): start low
+  // rather than fill a link of unknown size (see unreported_fraction).
+  if (!heard && target > 0) target *= options_.unreported_fraction;
   return target;
 }
 

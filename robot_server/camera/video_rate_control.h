@@ -1,8 +1,8 @@
 // The H.264 target for everyone watching: one LinkRateController per viewer that sends receive
 // reports (VideoFeedback), fed with the robot's record of the frames it wrote; the target is
 // the lowest of the viewers heard from in the last `viewer_timeout`, never above the class
-// target, and a fraction of it while nobody reports. Viewers behind mostar_relay do not report
-// to the robot: the relay reports its own arrivals, which judge the robot's uplink. At most
+// target, and a smaller fraction of it while nobody reports. Viewers behind mostar_relay do not
+// report to the robot: the relay reports its own arrivals, which judge the robot's uplink. At most
 // `max_viewers` are tracked; a new one replaces the one heard from least recently. Thread-safe (the
 // pipeline's compression thread and DDS threads).
 #pragma once
@@ -26,6 +26,12 @@ struct VideoRateControlOptions {
   // a queue estimate left over from an outage (frames that waited it out) would otherwise keep
   // the encoder silent until it aged away.
   Duration max_skip = std::chrono::milliseconds(500);
+  // Of the class target while no viewer reports (start, or every viewer quiet after an
+  // outage): below where a viewer's controller starts (link.start_fraction), because each
+  // viewer behind the relay gets a copy and viewers behind one NAT share its downlink (at half
+  // of an 8 Mbit/s class, two copies filled an 8 Mbit/s downlink after a robot_server restart
+  // until the first reports came: docs/networking.md).
+  double unreported_fraction = 0.25;
 };
 
 struct VideoRateStats {
@@ -47,8 +53,7 @@ class VideoRateControl {
   // A viewer's report (DDS thread).
   void OnFeedback(const VideoFeedback& feedback, SteadyTime now);
   // The target for the next frame: the lowest viewer's; with no viewer heard from within the
-  // timeout, `class_target` times the link options' start_fraction (<= 0: unlimited, returned
-  // as 0).
+  // timeout, `class_target` times unreported_fraction (<= 0: unlimited, returned as 0).
   double Target(double class_target, SteadyTime now);
   // Skip the frame the encoder would write now (some viewer's queue is too long), but never for
   // longer than max_skip in a row.

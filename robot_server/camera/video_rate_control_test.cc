@@ -22,10 +22,10 @@ VideoFeedback Report(const std::string& viewer, uint64_t first, uint64_t last, d
   return feedback;
 }
 
-TEST(VideoRateControlTest, WithoutReportsTheTargetStartsWhereANewViewersControllerStarts) {
+TEST(VideoRateControlTest, WithoutReportsTheTargetStartsBelowWhereANewViewersControllerStarts) {
   VideoRateControl control;
-  EXPECT_EQ(control.Target(8e6, kT0), 8e6 * LinkRateOptions().start_fraction);
-  EXPECT_LT(LinkRateOptions().start_fraction, 1.0);
+  EXPECT_EQ(control.Target(8e6, kT0), 8e6 * VideoRateControlOptions().unreported_fraction);
+  EXPECT_LT(VideoRateControlOptions().unreported_fraction, LinkRateOptions().start_fraction);
   EXPECT_EQ(control.Target(0, kT0), 0);
   EXPECT_FALSE(control.ShouldSkipFrame(kT0));
   EXPECT_EQ(control.Stats(kT0).viewers, 0);
@@ -48,7 +48,7 @@ TEST(VideoRateControlTest, TheSlowestViewerSetsTheTargetUntilItGoesQuiet) {
   EXPECT_TRUE(control.ShouldSkipFrame(now));
   // Two seconds later without reports the slow viewer no longer counts: back to the start.
   EXPECT_EQ(control.Target(8e6, now + std::chrono::seconds(3)),
-            8e6 * LinkRateOptions().start_fraction);
+            8e6 * VideoRateControlOptions().unreported_fraction);
   EXPECT_FALSE(control.ShouldSkipFrame(now + std::chrono::seconds(3)));
 }
 
