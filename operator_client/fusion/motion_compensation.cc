@@ -204,6 +204,7 @@ void MoveScanToImageTime(const LaserScan& scan, Time image_stamp, const Odometry
   MOSTAR_CHECK(options.IsValid(&error)) << error;
   const size_t n = scan.ranges_m.size();
   out->points.resize(n);
+  out->azimuths_rad.resize(n);
   out->moved = false;
   out->extrapolated = false;
   out->reason.clear();
@@ -213,6 +214,7 @@ void MoveScanToImageTime(const LaserScan& scan, Time image_stamp, const Odometry
     const float a = scan.AngleOf(i);
     out->points[i] =
         LaserScan::IsValidRange(r) ? PlanarPoint{r * std::cos(a), r * std::sin(a)} : PlanarPoint{};
+    out->azimuths_rad[i] = a;
   }
   if (Abs(out->image_minus_scan) > options.max_scan_age) {
     out->reason =
@@ -238,16 +240,25 @@ void MoveScanToImageTime(const LaserScan& scan, Time image_stamp, const Odometry
   const double beam_dt_s =
       std::isfinite(dt) && dt >= 0.f && dt <= 1e-3f ? static_cast<double>(dt) : 0.0;
   std::vector<PlanarPoint> moved(n);
+  std::vector<float> azimuths(n);
+  double turn_rad = 0.0;  // of the last beam moved: beams without a point may lie outside odometry
   for (size_t i = 0; i < n; ++i) {
-    if (!LaserScan::IsValidRange(scan.ranges_m[i])) continue;
+    const bool valid = LaserScan::IsValidRange(scan.ranges_m[i]);
     const Time beam_time = scan.stamp + FromSeconds(beam_dt_s * static_cast<double>(i));
     const Pose2D odom_from_beam = odometry.PoseAt(beam_time, options, &coverage);
     if (coverage == PoseCoverage::kNotCovered) {
+      if (!valid) {
+        azimuths[i] = static_cast<float>(out->azimuths_rad[i] + turn_rad);
+        continue;
+      }
       out->reason = "no odometry at the scan time";
       return;
     }
-    extrapolated |= coverage == PoseCoverage::kExtrapolated;
     const Pose2D image_from_beam = Compose(image_from_odom, odom_from_beam);
+    turn_rad = image_from_beam.theta_rad;
+    azimuths[i] = static_cast<float>(out->azimuths_rad[i] + turn_rad);
+    if (!valid) continue;
+    extrapolated |= coverage == PoseCoverage::kExtrapolated;
     const double c = std::cos(image_from_beam.theta_rad);
     const double s = std::sin(image_from_beam.theta_rad);
     const double x = out->points[i].x_m;
@@ -255,6 +266,7 @@ void MoveScanToImageTime(const LaserScan& scan, Time image_stamp, const Odometry
     moved[i] = PlanarPoint{static_cast<float>(image_from_beam.x_m + c * x - s * y),
                            static_cast<float>(image_from_beam.y_m + s * x + c * y)};
   }
+  out->azimuths_rad.swap(azimuths);
   out->points.swap(moved);
   out->moved = true;
   out->extrapolated = extrapolated;

@@ -101,6 +101,11 @@ struct MovedScan {
   // One per beam: the point in the base frame at the image time. Beams without a finite,
   // positive range are (0, 0). When !moved, the points are the scan as measured.
   std::vector<PlanarPoint> points;
+  // One per beam, every beam included: its direction (radians, counter-clockwise) in the base
+  // frame at the image time, i.e. its angle turned by the robot's turn between the beam's time
+  // and the image's. The beam angle as measured when !moved. For beams without a point (NaN,
+  // +Inf) this says where their free or unknown space lies (ResampleAtImageTime).
+  std::vector<float> azimuths_rad;
   bool moved = false;  // every beam was moved with odometry covering its time and the image's
   bool extrapolated = false;     // moved, and some pose came from extrapolation
   Duration image_minus_scan{0};  // image stamp - scan stamp (first beam)

@@ -39,7 +39,6 @@ ConsoleSelfCalibration::ConsoleSelfCalibration(const Options& options)
 }
 
 void ConsoleSelfCalibration::Update(const std::shared_ptr<const vision::VisionResult>& result,
-                                    const NearestScan& nearest_scan,
                                     const std::optional<Odometry>& odometry,
                                     const vision::VisionOptions& vision,
                                     const render::StereoGeometry& geometry) {
@@ -56,9 +55,10 @@ void ConsoleSelfCalibration::Update(const std::shared_ptr<const vision::VisionRe
   if (!result || !result->ok || (seen_any_ && result->sequence == last_sequence_)) return;
   seen_any_ = true;
   last_sequence_ = result->sequence;
-  const std::optional<LaserScan> scan = nearest_scan(result->stamp);
-  if (!scan) return;
-  const bool same_scan = last_added_scan_ && scan->stamp == *last_added_scan_;
+  const LaserScan& scan = result->scan;
+  if (scan.ranges_m.empty()) return;
+  const Time measured = result->placement.measured_stamp;
+  const bool same_scan = last_added_scan_ && measured == *last_added_scan_;
   const bool still = odometry && last_added_pose_ &&
                      Moved(*last_added_pose_, odometry->pose) < options_.min_motion_m &&
                      Turned(*last_added_pose_, odometry->pose) < options_.min_turn_rad;
@@ -66,9 +66,9 @@ void ConsoleSelfCalibration::Update(const std::shared_ptr<const vision::VisionRe
     ++repeated_results_;  // nothing new to learn
     return;
   }
-  last_added_scan_ = scan->stamp;
+  last_added_scan_ = measured;
   if (odometry) last_added_pose_ = odometry->pose;
-  window_.Add(calibration::ExtractCorrespondences(*result, *scan, vision.classifier,
+  window_.Add(calibration::ExtractCorrespondences(*result, scan, vision.classifier,
                                                   left.laser_height_m, options_.correspondences));
   if (!last_fit_stamp_) last_fit_stamp_ = result->stamp;  // the first fit after one period
   if (result->stamp >= *last_fit_stamp_ && result->stamp < *last_fit_stamp_ + options_.fit_period) {

@@ -42,7 +42,6 @@ class ConsoleSelfCalibration {
 
     bool IsValid(std::string* error) const;
   };
-  using NearestScan = std::function<std::optional<LaserScan>(Time stamp)>;
 
   ConsoleSelfCalibration() : ConsoleSelfCalibration(Options{}) {}
   // The options must be valid (checked).
@@ -51,12 +50,14 @@ class ConsoleSelfCalibration {
   bool enabled() const { return options_.enabled; }
   // One render tick with the shown edge result (null: none yet) and the robot's newest odometry
   // (nullopt: none); nothing when disabled. A result not seen before adds
-  // its correspondences, with the scan nearest its stamp (the one the edge worker was given);
+  // its correspondences, with the scan it was computed against (VisionResult::scan: at the
+  // image's time when the console could move it there, so laser points and edge pixels are
+  // paired from one camera pose);
   // every fit_period of image time the window is handed to the fit worker with `geometry`'s
   // image calibrations. An image size change empties the window.
   void Update(const std::shared_ptr<const vision::VisionResult>& result,
-              const NearestScan& nearest_scan, const std::optional<Odometry>& odometry,
-              const vision::VisionOptions& vision, const render::StereoGeometry& geometry);
+              const std::optional<Odometry>& odometry, const vision::VisionOptions& vision,
+              const render::StereoGeometry& geometry);
 
   // The proposal to show: the newest fit, unless rejected or computed from a calibration that
   // is no longer in force (after Apply or a slider edit). Null when there is none.
@@ -81,7 +82,7 @@ class ConsoleSelfCalibration {
   uint64_t last_sequence_ = 0;
   bool seen_any_ = false;
   std::optional<Time> last_fit_stamp_;
-  std::optional<Time> last_added_scan_;    // stamp of the scan of the last result added
+  std::optional<Time> last_added_scan_;    // measured stamp of the scan of the last result added
   std::optional<Pose2D> last_added_pose_;  // the odometry then
   uint64_t repeated_results_ = 0;
   int width_px_ = 0;

@@ -21,15 +21,17 @@ math::LaserCameraCalibration Truth() {
 // A rectangular room (walls x = 3.2, y = +-1.4, laser frame) turned by `yaw`: ranges per beam,
 // and edge results whose NEPs are the true images of the walls' bases (both eyes; every beam
 // agrees with its laser point).
+// The result carries the scan it was computed against; `measured` is that scan's own stamp
+// (default: the image's).
 struct Frame {
   LaserScan scan;
   std::shared_ptr<const vision::VisionResult> result;
 };
 
-Frame RoomFrame(double yaw, uint64_t sequence, Time stamp) {
+Frame RoomFrame(double yaw, uint64_t sequence, Time stamp, std::optional<Time> measured = {}) {
   Frame frame;
   LaserScan& scan = frame.scan;
-  scan.stamp = stamp;
+  scan.stamp = measured.value_or(stamp);
   scan.angle_min_rad = static_cast<float>(-M_PI / 2);
   scan.angle_increment_rad = static_cast<float>(M_PI / 180);
   scan.range_min_m = 0.1f;
@@ -63,6 +65,8 @@ Frame RoomFrame(double yaw, uint64_t sequence, Time stamp) {
       nep.pixel = *px;
     }
   }
+  result->scan = scan;
+  result->placement.measured_stamp = scan.stamp;
   frame.result = std::move(result);
   return frame;
 }
@@ -81,14 +85,12 @@ std::shared_ptr<const calibration::FitResult> FeedUntilProposal(ConsoleSelfCalib
   for (int k = 0; k < frames; ++k) {
     const Frame frame =
         RoomFrame(0.25 * std::sin(0.4 * k), k + 1, kT0 + std::chrono::milliseconds(500) * k);
-    self->Update(
-        frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{}, g);
-    self->Update(
-        frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{}, g);
+    self->Update(frame.result, std::nullopt, vision::VisionOptions{}, g);
+    self->Update(frame.result, std::nullopt, vision::VisionOptions{}, g);
   }
   for (int i = 0; i < 600 && !self->proposal(); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    self->Update(nullptr, nullptr, std::nullopt, vision::VisionOptions{}, g);
+    self->Update(nullptr, std::nullopt, vision::VisionOptions{}, g);
   }
   return self->proposal();
 }
@@ -134,7 +136,7 @@ TEST(ConsoleSelfCalibrationTest, RejectHidesAndStaleProposalsAreNotShown) {
   ASSERT_NE(FeedUntilProposal(&other, geometry, 5), nullptr);
   math::LaserCameraCalibration edited = live;
   edited.tilt_rad += 0.01;  // a slider edit: the proposal started from another calibration
-  other.Update(nullptr, nullptr, std::nullopt, vision::VisionOptions{}, Geometry(edited));
+  other.Update(nullptr, std::nullopt, vision::VisionOptions{}, Geometry(edited));
   EXPECT_EQ(other.proposal(), nullptr);
 }
 
@@ -143,18 +145,14 @@ TEST(ConsoleSelfCalibrationTest, EachResultCountsOnceAndAnImageSizeChangeEmpties
   math::LaserCameraCalibration c = Truth();
   const render::StereoGeometry geometry = Geometry(c);
   const Frame frame = RoomFrame(0.0, 1, kT0);
-  self.Update(
-      frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{},
-      geometry);
+  self.Update(frame.result, std::nullopt, vision::VisionOptions{}, geometry);
   const size_t once = self.window_points();
   EXPECT_GT(once, 0u);
-  self.Update(
-      frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{},
-      geometry);
+  self.Update(frame.result, std::nullopt, vision::VisionOptions{}, geometry);
   EXPECT_EQ(self.window_points(), once);
   c.image_width_px = 1280;
   c.image_height_px = 960;
-  self.Update(nullptr, nullptr, std::nullopt, vision::VisionOptions{}, Geometry(c));
+  self.Update(nullptr, std::nullopt, vision::VisionOptions{}, Geometry(c));
   EXPECT_EQ(self.window_points(), 0u);
 }
 
@@ -171,30 +169,27 @@ TEST(ConsoleSelfCalibrationTest, RepeatedEvidenceIsAddedOnce) {
   ConsoleSelfCalibration self;
   const render::StereoGeometry geometry = Geometry(Truth());
   const Frame first = RoomFrame(0.0, 1, kT0);
-  const auto scan_of = [](const Frame& f) { return [&f](Time) { return f.scan; }; };
-  self.Update(first.result, scan_of(first), At(0, 0), vision::VisionOptions{}, geometry);
+  self.Update(first.result, At(0, 0), vision::VisionOptions{}, geometry);
   const size_t once = self.window_points();
   ASSERT_GT(once, 0u);
-  Frame same_scan = RoomFrame(0.0, 2, kT0 + std::chrono::milliseconds(33));
-  same_scan.scan.stamp = first.scan.stamp;  // the next image, drawn with the same scan
-  self.Update(same_scan.result, scan_of(same_scan), std::nullopt, vision::VisionOptions{},
-              geometry);
+  // The next image, drawn with the same scan.
+  const Frame same_scan = RoomFrame(0.0, 2, kT0 + std::chrono::milliseconds(33), first.scan.stamp);
+  self.Update(same_scan.result, std::nullopt, vision::VisionOptions{}, geometry);
   EXPECT_EQ(self.window_points(), once) << "the same scan, without odometry too";
   for (uint64_t k = 3; k < 7; ++k) {  // new scans, the robot still (within 1 cm, 0.3 degree)
     const Frame still = RoomFrame(0.0, k, kT0 + std::chrono::milliseconds(100) * k);
-    self.Update(still.result, scan_of(still), At(0.01, 0.005), vision::VisionOptions{}, geometry);
+    self.Update(still.result, At(0.01, 0.005), vision::VisionOptions{}, geometry);
   }
   EXPECT_EQ(self.window_points(), once);
   EXPECT_EQ(self.repeated_results(), 5u);
   const Frame moved = RoomFrame(0.0, 7, kT0 + std::chrono::milliseconds(700));
-  self.Update(moved.result, scan_of(moved), At(0.03, 0.0), vision::VisionOptions{}, geometry);
+  self.Update(moved.result, At(0.03, 0.0), vision::VisionOptions{}, geometry);
   EXPECT_EQ(self.window_points(), 2 * once) << "3 cm on";
   const Frame turned = RoomFrame(0.0, 8, kT0 + std::chrono::milliseconds(800));
-  self.Update(turned.result, scan_of(turned), At(0.03, 0.01), vision::VisionOptions{}, geometry);
+  self.Update(turned.result, At(0.03, 0.01), vision::VisionOptions{}, geometry);
   EXPECT_EQ(self.window_points(), 3 * once) << "turned 0.6 degree";
   const Frame no_odometry = RoomFrame(0.0, 9, kT0 + std::chrono::milliseconds(900));
-  self.Update(no_odometry.result, scan_of(no_odometry), std::nullopt, vision::VisionOptions{},
-              geometry);
+  self.Update(no_odometry.result, std::nullopt, vision::VisionOptions{}, geometry);
   EXPECT_EQ(self.window_points(), 4 * once) << "a new scan, and nothing says the robot is still";
 
   ConsoleSelfCalibration::Options every;
@@ -203,7 +198,7 @@ TEST(ConsoleSelfCalibrationTest, RepeatedEvidenceIsAddedOnce) {
   ConsoleSelfCalibration all(every);
   for (uint64_t k = 1; k < 4; ++k) {
     const Frame still = RoomFrame(0.0, k, kT0 + std::chrono::milliseconds(100) * k);
-    all.Update(still.result, scan_of(still), At(0, 0), vision::VisionOptions{}, geometry);
+    all.Update(still.result, At(0, 0), vision::VisionOptions{}, geometry);
   }
   EXPECT_EQ(all.window_points(), 3 * once);
   EXPECT_EQ(all.repeated_results(), 0u);
@@ -218,9 +213,7 @@ TEST(ConsoleSelfCalibrationTest, DisabledCollectsNothingAndProposesNothing) {
   const render::StereoGeometry geometry = Geometry(Truth());
   for (int k = 0; k < 5; ++k) {
     const Frame frame = RoomFrame(0.1 * k, k + 1, kT0 + std::chrono::milliseconds(500) * k);
-    self.Update(
-        frame.result, [&](Time) { return frame.scan; }, std::nullopt, vision::VisionOptions{},
-        geometry);
+    self.Update(frame.result, std::nullopt, vision::VisionOptions{}, geometry);
   }
   EXPECT_EQ(self.window_points(), 0u);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));

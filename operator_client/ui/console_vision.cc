@@ -21,7 +21,7 @@ void ConsoleVision::GeometryChanged(std::shared_ptr<const math::CameraModel> lef
 }
 
 void ConsoleVision::Update(const std::optional<client::DecodedStereoPair>& latest, bool enabled,
-                           const NearestScan& nearest_scan,
+                           const ScanForImage& scan_for,
                            const fusion::ArFeatureBuilder& outliers_of) {
   if (!enabled) {
     picker_.ShowUnprocessed(latest);
@@ -33,9 +33,10 @@ void ConsoleVision::Update(const std::optional<client::DecodedStereoPair>& lates
     input.sequence = latest->sequence;
     input.left = latest->left;
     input.right = latest->right;
-    if (std::optional<LaserScan> scan = nearest_scan(latest->stamp)) {
-      input.potential_outliers = PotentialOutliers(outliers_of, *scan);
-      input.scan = std::move(*scan);
+    if (std::optional<PlacedScan> placed = scan_for(latest->stamp)) {
+      input.potential_outliers = PotentialOutliers(outliers_of, placed->scan);
+      input.scan = std::move(placed->scan);
+      input.placement = std::move(placed->placement);
     }
     input.left_camera = left_model_;
     input.right_camera = right_model_;

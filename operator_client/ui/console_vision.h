@@ -1,5 +1,6 @@
 // Edge processing for the console (thesis 8, 9.2): hands each new decoded pair, with the scan
-// nearest in time and the overlay's potential outliers, to the edge worker; picks the pair and
+// nearest in time moved to the pair's capture time (PlaceScanForVision) and the overlay's
+// potential outliers, to the edge worker; picks the pair and
 // result to show (FramePicker); gives NESC's vertical offset hint while it is current; takes
 // the edge view's live settings. Render thread only; never waits for the worker. No GL.
 #pragma once
@@ -22,8 +23,14 @@ namespace mostar::ui {
 
 class ConsoleVision {
  public:
-  // The scan nearest in time to a capture stamp (robot clock), when there is one.
-  using NearestScan = std::function<std::optional<LaserScan>(Time stamp)>;
+  // A scan as edge processing is to see it with a pair.
+  struct PlacedScan {
+    LaserScan scan;
+    vision::ScanPlacement placement;
+  };
+  // The scan for a capture stamp (robot clock): the one nearest in time, placed by
+  // PlaceScanForVision (at that time when it can be moved there); nullopt when there is none.
+  using ScanForImage = std::function<std::optional<PlacedScan>(Time stamp)>;
 
   // `options` must be valid (VisionOptions::IsValid).
   explicit ConsoleVision(const vision::VisionOptions& options);
@@ -36,11 +43,11 @@ class ConsoleVision {
                        std::shared_ptr<const math::CameraModel> right);
 
   // One render tick. `enabled` false: the latest pair is shown as it is. Else a new pair goes to
-  // the worker with its nearest scan and `outliers_of` that scan's potential-outlier labels
+  // the worker with its scan (`scan_for`) and `outliers_of` that scan's potential-outlier labels
   // (the overlay's builder, so a live slopeTh edit moves what edges confirm), and the shown
   // pair follows the results.
   void Update(const std::optional<client::DecodedStereoPair>& latest, bool enabled,
-              const NearestScan& nearest_scan, const fusion::ArFeatureBuilder& outliers_of);
+              const ScanForImage& scan_for, const fusion::ArFeatureBuilder& outliers_of);
 
   const FramePicker& picker() const { return picker_; }
 

@@ -49,7 +49,7 @@ struct FakeProcess {
 
 // Polls until the worker's result for `sequence` is shown (bounded).
 bool ShowResult(ConsoleVision* vision, const client::DecodedStereoPair& pair,
-                const ConsoleVision::NearestScan& nearest, const fusion::ArFeatureBuilder& b) {
+                const ConsoleVision::ScanForImage& nearest, const fusion::ArFeatureBuilder& b) {
   for (int i = 0; i < 2000; ++i) {
     vision->Update(pair, true, nearest, b);
     const auto& shown = vision->picker().shown_result();
@@ -59,7 +59,7 @@ bool ShowResult(ConsoleVision* vision, const client::DecodedStereoPair& pair,
   return false;
 }
 
-TEST(ConsoleVisionTest, HandsEachNewPairOverOnceWithItsNearestScanModelsAndOutlierLabels) {
+TEST(ConsoleVisionTest, HandsEachNewPairOverOnceWithItsPlacedScanModelsAndOutlierLabels) {
   FakeProcess fake;
   ConsoleVision vision(vision::VisionOptions{}, fake.Function());
   auto left =
@@ -71,9 +71,12 @@ TEST(ConsoleVisionTest, HandsEachNewPairOverOnceWithItsNearestScanModelsAndOutli
   wall.segments.push_back({3.0, -6.0, 3.0, 6.0});
   const LaserScan scan = fusion::testing::MakeScan(wall, 181);
   std::vector<Time> asked;
-  const ConsoleVision::NearestScan nearest = [&](Time stamp) -> std::optional<LaserScan> {
+  const ConsoleVision::ScanForImage nearest = [&](Time stamp) {
     asked.push_back(stamp);
-    return scan;
+    ConsoleVision::PlacedScan placed{scan, {}};
+    placed.placement.at_image_time = true;
+    placed.placement.measured_stamp = stamp - std::chrono::milliseconds(30);
+    return std::optional<ConsoleVision::PlacedScan>(placed);
   };
   const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
   ASSERT_TRUE(ShowResult(&vision, Pair(1), nearest, builder));
@@ -84,6 +87,9 @@ TEST(ConsoleVisionTest, HandsEachNewPairOverOnceWithItsNearestScanModelsAndOutli
   ASSERT_EQ(asked.size(), 1u);
   EXPECT_EQ(asked.front(), Pair(1).stamp);
   EXPECT_EQ(input.scan.ranges_m, scan.ranges_m);
+  // The placement travels with the scan (the result hands it to the overlay).
+  EXPECT_TRUE(input.placement.at_image_time);
+  EXPECT_EQ(input.placement.measured_stamp, Pair(1).stamp - std::chrono::milliseconds(30));
   EXPECT_EQ(input.potential_outliers.size(), scan.ranges_m.size());
   EXPECT_EQ(input.left_camera, left);
   EXPECT_EQ(input.right_camera, right);
@@ -94,7 +100,7 @@ TEST(ConsoleVisionTest, DisabledShowsTheLatestPairWithoutTheWorker) {
   ConsoleVision vision(vision::VisionOptions{}, fake.Function());
   const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
   vision.Update(
-      Pair(5), false, [](Time) { return std::optional<LaserScan>(); }, builder);
+      Pair(5), false, [](Time) { return std::optional<ConsoleVision::PlacedScan>(); }, builder);
   ASSERT_TRUE(vision.picker().shown_pair());
   EXPECT_EQ(vision.picker().shown_pair()->sequence, 5u);
   EXPECT_EQ(fake.calls.load(), 0);
@@ -104,7 +110,7 @@ TEST(ConsoleVisionTest, TheOffsetHintIsStaleAfterAGeometryChangeUntilANewPairIsP
   FakeProcess fake;
   ConsoleVision vision(vision::VisionOptions{}, fake.Function());
   const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
-  const auto none = [](Time) { return std::optional<LaserScan>(); };
+  const auto none = [](Time) { return std::optional<ConsoleVision::PlacedScan>(); };
   const auto suggest = [](double residual_px) { return static_cast<float>(-residual_px); };
   ASSERT_TRUE(ShowResult(&vision, Pair(1), none, builder));
   std::optional<StereoOffsetHint> hint = vision.OffsetHint(suggest);

@@ -1,6 +1,7 @@
 #include "operator_client/ui/frame_picker.h"
 
 #include <iterator>
+#include <utility>
 
 namespace mostar::ui {
 
@@ -32,12 +33,12 @@ void FramePicker::OnResult(const std::shared_ptr<const vision::VisionResult>& re
   if (!shown_pair_) shown_pair_ = latest;  // nothing processed yet
 }
 
-std::optional<LaserScan> FramePicker::ScanToDraw(std::optional<LaserScan> nearest) const {
+FramePicker::DrawnScan FramePicker::ScanToDraw(std::optional<LaserScan> nearest) const {
   if (shown_result_ && shown_pair_ && shown_result_->sequence == shown_pair_->sequence &&
       !shown_result_->classification.corrected_scan.ranges_m.empty()) {
-    return shown_result_->classification.corrected_scan;
+    return {shown_result_->classification.corrected_scan, shown_result_->placement};
   }
-  return nearest;
+  return {std::move(nearest), std::nullopt};
 }
 
 }  // namespace mostar::ui

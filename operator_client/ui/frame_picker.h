@@ -35,10 +35,15 @@ class FramePicker {
   const std::shared_ptr<const vision::VisionResult>& shown_result() const { return shown_result_; }
   // Sequence of the pair of the last matched result, ok or not (0 before the first).
   uint64_t result_sequence() const { return result_sequence_; }
-  // The scan to draw over the shown pair: with a successful edge result for this very pair its
-  // corrected scan (NEP-corrected points, confirmed outliers removed), else `nearest` (the scan
-  // nearest in time to the pair, or the latest one without a pair).
-  std::optional<LaserScan> ScanToDraw(std::optional<LaserScan> nearest) const;
+  // The scan to draw over the shown pair. With a successful edge result for this very pair: its
+  // corrected scan (NEP-corrected points, confirmed outliers removed) and the result's placement:
+  // the scan is where edge processing had it, to be drawn without moving it again. Else `nearest`
+  // (the scan nearest in time to the pair, or the latest one without a pair) and no placement.
+  struct DrawnScan {
+    std::optional<LaserScan> scan;
+    std::optional<vision::ScanPlacement> placement;
+  };
+  DrawnScan ScanToDraw(std::optional<LaserScan> nearest) const;
   size_t in_flight() const { return in_flight_.size(); }
 
  private:

@@ -36,19 +36,26 @@ TEST(FramePickerTest, DrawsTheCorrectedScanOnlyWithTheResultOfTheShownPair) {
   FramePicker picker;
   LaserScan nearest;
   nearest.ranges_m = {1.0f, 2.0f};
-  EXPECT_EQ(picker.ScanToDraw(nearest)->ranges_m, nearest.ranges_m);  // nothing shown yet
-  EXPECT_FALSE(picker.ScanToDraw(std::nullopt));
+  EXPECT_EQ(picker.ScanToDraw(nearest).scan->ranges_m, nearest.ranges_m);  // nothing shown yet
+  EXPECT_FALSE(picker.ScanToDraw(nearest).placement);  // to be moved by the caller
+  EXPECT_FALSE(picker.ScanToDraw(std::nullopt).scan);
   picker.TakeNew(Pair(1));
   auto result = std::make_shared<vision::VisionResult>();
   result->sequence = 1;
   result->ok = true;
   result->classification.corrected_scan.ranges_m = {1.5f, 2.5f};
+  result->placement.at_image_time = true;
   picker.OnResult(result, Pair(1));
-  EXPECT_EQ(picker.ScanToDraw(nearest)->ranges_m, result->classification.corrected_scan.ranges_m);
+  const FramePicker::DrawnScan drawn = picker.ScanToDraw(nearest);
+  EXPECT_EQ(drawn.scan->ranges_m, result->classification.corrected_scan.ranges_m);
+  // Placed by edge processing: drawn where it is, not moved a second time.
+  ASSERT_TRUE(drawn.placement);
+  EXPECT_TRUE(drawn.placement->at_image_time);
   // A result without a corrected scan (edge processing found nothing to correct) draws `nearest`.
   picker.TakeNew(Pair(2));
   picker.OnResult(Result(2), Pair(2));
-  EXPECT_EQ(picker.ScanToDraw(nearest)->ranges_m, nearest.ranges_m);
+  EXPECT_EQ(picker.ScanToDraw(nearest).scan->ranges_m, nearest.ranges_m);
+  EXPECT_FALSE(picker.ScanToDraw(nearest).placement);
 }
 
 TEST(FramePickerTest, TakesEachPairOnce) {

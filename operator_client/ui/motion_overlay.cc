@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "operator_client/fusion/scan_resampling.h"
+
 namespace mostar::ui {
 namespace {
 
@@ -39,6 +41,49 @@ MotionOverlayStatus BuildOverlayFeatures(const fusion::ArFeatureBuilder& builder
   FadeScanFeatures(options.faded_alpha_scale, features);
   status.faded = true;
   status.reason = moved->moved ? "scan and motion disagree" : moved->reason;
+  return status;
+}
+
+vision::ScanPlacement PlaceScanForVision(const LaserScan& nearest, const fusion::MovedScan* moved,
+                                         LaserScan* out) {
+  vision::ScanPlacement placement;
+  placement.measured_stamp = nearest.stamp;
+  if (moved == nullptr) {
+    *out = nearest;
+    return placement;
+  }
+  if (!moved->moved) {
+    *out = nearest;
+    placement.reason = moved->reason;
+    return placement;
+  }
+  if (!fusion::ResampleAtImageTime(nearest, *moved, out)) {
+    placement.reason = "scan beams cannot be resampled";  // out: nearest as measured
+    return placement;
+  }
+  placement.at_image_time = true;
+  placement.extrapolated = moved->extrapolated;
+  return placement;
+}
+
+MotionOverlayStatus BuildPlacedOverlayFeatures(const fusion::ArFeatureBuilder& builder,
+                                               const LaserScan& scan,
+                                               const vision::ScanPlacement& placement,
+                                               Time image_stamp, bool compensate,
+                                               const MotionOverlayOptions& options,
+                                               fusion::ArFeatures* features) {
+  MotionOverlayStatus status;
+  builder.Build(scan, features);
+  if (!compensate) return status;
+  status.scan_age_ms = ToSeconds(image_stamp - placement.measured_stamp) * 1e3;
+  if (placement.at_image_time) {
+    status.moved = true;
+    return status;
+  }
+  FadeScanFeatures(options.faded_alpha_scale, features);
+  status.faded = true;
+  status.reason =
+      placement.reason.empty() ? "scan not moved to the image's time" : placement.reason;
   return status;
 }
 

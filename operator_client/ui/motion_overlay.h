@@ -8,6 +8,7 @@
 
 #include "operator_client/fusion/ar_features.h"
 #include "operator_client/fusion/motion_compensation.h"
+#include "operator_client/vision/vision_pipeline.h"
 
 namespace mostar::ui {
 
@@ -36,6 +37,27 @@ MotionOverlayStatus BuildOverlayFeatures(const fusion::ArFeatureBuilder& builder
                                          const LaserScan& scan, const fusion::MovedScan* moved,
                                          const MotionOverlayOptions& options,
                                          fusion::ArFeatures* features);
+
+// The scan handed to edge processing with a pair (issue 36): `nearest` (the scan nearest the
+// pair's capture time) moved to that time and resampled on its beam grid
+// (fusion::ResampleAtImageTime) when `moved` (MoveScanToImageTime's output for it; null when
+// compensation is off) could move it; else `nearest` as measured. Edge processing then walks its
+// virtual rays, compares NEPs with the laser and pairs points for the self-calibration from the
+// camera's pose, and its corrected scan is drawn as it is (BuildPlacedOverlayFeatures): moved
+// once.
+vision::ScanPlacement PlaceScanForVision(const LaserScan& nearest, const fusion::MovedScan* moved,
+                                         LaserScan* out);
+
+// The features of a scan edge processing placed (a result's corrected scan, `placement` from its
+// result) over the image captured at `image_stamp`, never moved again: where it is when
+// placement.at_image_time; else as measured, faded when `compensate` (compensation on) with
+// placement.reason. Without `compensate`, as measured and not faded (the thesis' drawing).
+MotionOverlayStatus BuildPlacedOverlayFeatures(const fusion::ArFeatureBuilder& builder,
+                                               const LaserScan& scan,
+                                               const vision::ScanPlacement& placement,
+                                               Time image_stamp, bool compensate,
+                                               const MotionOverlayOptions& options,
+                                               fusion::ArFeatures* features);
 
 // Multiplies the alpha of what the scan placed (walls, rays, vertical lines, laser points and
 // the labels' colours) by `scale`; the distance circles stay: they go with the robot.

@@ -26,8 +26,73 @@ fusion::MovedScan Nearer(const LaserScan& scan) {
   for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
     const float a = scan.AngleOf(i);
     moved.points.push_back({2.0f * std::cos(a) - 0.1f, 2.0f * std::sin(a)});
+    moved.azimuths_rad.push_back(a);
   }
   return moved;
+}
+
+TEST(MotionOverlayTest, EdgeProcessingGetsTheScanAtTheImagesTimeWhenItCanBeMoved) {
+  const LaserScan scan = Scan();
+  LaserScan placed;
+  const vision::ScanPlacement off = PlaceScanForVision(scan, nullptr, &placed);
+  EXPECT_FALSE(off.at_image_time);
+  EXPECT_TRUE(off.reason.empty());  // compensation off: nothing to say
+  EXPECT_EQ(off.measured_stamp, kT0);
+  EXPECT_EQ(placed.ranges_m, scan.ranges_m);
+
+  const fusion::MovedScan moved = Nearer(scan);
+  const vision::ScanPlacement on = PlaceScanForVision(scan, &moved, &placed);
+  EXPECT_TRUE(on.at_image_time);
+  EXPECT_FALSE(on.extrapolated);
+  EXPECT_EQ(on.measured_stamp, kT0);
+  EXPECT_EQ(placed.stamp, kT0 + std::chrono::milliseconds(40));
+  // 10 cm nearer straight ahead (beam 50 looks along x), on the same beam grid.
+  ASSERT_EQ(placed.ranges_m.size(), scan.ranges_m.size());
+  EXPECT_NEAR(placed.ranges_m[50], 1.9f, 1e-3);
+  EXPECT_EQ(placed.angle_min_rad, scan.angle_min_rad);
+
+  fusion::MovedScan not_moved = Nearer(scan);
+  not_moved.moved = false;
+  not_moved.reason = "no odometry";
+  const vision::ScanPlacement refused = PlaceScanForVision(scan, &not_moved, &placed);
+  EXPECT_FALSE(refused.at_image_time);
+  EXPECT_EQ(refused.reason, "no odometry");
+  EXPECT_EQ(placed.ranges_m, scan.ranges_m);
+}
+
+TEST(MotionOverlayTest, APlacedScanIsDrawnWhereItIsAndNeverMovedAgain) {
+  const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
+  const LaserScan scan = Scan();  // say, a result's corrected scan at the image's time
+  fusion::ArFeatures plain;
+  builder.Build(scan, &plain);
+  vision::ScanPlacement placement;
+  placement.at_image_time = true;
+  placement.measured_stamp = kT0 - std::chrono::milliseconds(30);
+  fusion::ArFeatures features;
+  MotionOverlayStatus status = BuildPlacedOverlayFeatures(builder, scan, placement, kT0, true,
+                                                          MotionOverlayOptions{}, &features);
+  EXPECT_TRUE(status.moved);
+  EXPECT_FALSE(status.faded);
+  EXPECT_DOUBLE_EQ(status.scan_age_ms, 30.0);
+  EXPECT_EQ(features.laser_points.positions, plain.laser_points.positions);
+  EXPECT_EQ(features.laser_points.colors, plain.laser_points.colors);
+
+  placement.at_image_time = false;
+  placement.reason = "no odometry at the image time";
+  status = BuildPlacedOverlayFeatures(builder, scan, placement, kT0, true, MotionOverlayOptions{},
+                                      &features);
+  EXPECT_FALSE(status.moved);
+  EXPECT_TRUE(status.faded);
+  EXPECT_EQ(status.reason, "no odometry at the image time");
+  EXPECT_EQ(features.laser_points.positions, plain.laser_points.positions);
+  EXPECT_LT(features.laser_points.colors[3], plain.laser_points.colors[3]);
+
+  // Compensation off: the thesis' drawing, neither moved nor faded.
+  status = BuildPlacedOverlayFeatures(builder, scan, placement, kT0, false, MotionOverlayOptions{},
+                                      &features);
+  EXPECT_FALSE(status.moved);
+  EXPECT_FALSE(status.faded);
+  EXPECT_EQ(features.laser_points.colors, plain.laser_points.colors);
 }
 
 TEST(MotionOverlayTest, AMovedScanIsDrawnWhereItWasMovedNotFaded) {

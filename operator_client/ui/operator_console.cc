@@ -117,10 +117,23 @@ void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
   if (latest) tracer_.Picked(latest->sequence, clock_->SteadyNow());
   std::string error;
-  const auto nearest = [this](Time stamp) { return robot_->NearestScan(stamp); };
-  vision_->Update(latest, options_.vision_enabled, nearest, OverlayBuilder(&error));
-  selfcal_.Update(vision_->picker().shown_result(), nearest, robot_->Snapshot().odometry,
-                  options_.vision, geometry_);
+  // Edge processing sees the nearest scan from the camera's pose: moved to the pair's capture
+  // time and resampled on its beams (PlaceScanForVision); its corrected scan is drawn as it is.
+  const auto scan_for = [this](Time stamp) -> std::optional<ConsoleVision::PlacedScan> {
+    std::optional<LaserScan> nearest = robot_->NearestScan(stamp);
+    if (!nearest) return std::nullopt;
+    fusion::MovedScan moved;
+    const bool compensate = options_.motion.enabled;
+    if (compensate) {
+      robot_->MoveScanToImageTime(*nearest, stamp, options_.motion.compensation, &moved);
+    }
+    ConsoleVision::PlacedScan placed;
+    placed.placement = PlaceScanForVision(*nearest, compensate ? &moved : nullptr, &placed.scan);
+    return placed;
+  };
+  vision_->Update(latest, options_.vision_enabled, scan_for, OverlayBuilder(&error));
+  selfcal_.Update(vision_->picker().shown_result(), robot_->Snapshot().odometry, options_.vision,
+                  geometry_);
 }
 
 const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* error) {
@@ -131,17 +144,28 @@ const fusion::ArFeatureBuilder& OperatorConsole::OverlayBuilder(std::string* err
 }
 
 void OperatorConsole::BuildOverlay(const client::RobotSnapshot& robot,
-                                   const std::optional<LaserScan>& scan,
+                                   const FramePicker::DrawnScan& drawn,
                                    render::OverlayGeometry* overlay, fusion::ArFeatures* features,
                                    fusion::SonarFeatures* sonar) {
   motion_ = {};
   const std::optional<client::DecodedStereoPair>& pair = vision_->picker().shown_pair();
+  const std::optional<LaserScan>& scan = drawn.scan;
   if (scan) {
     std::string error;
-    // The scan at the shown image's capture time (robot clock), moved with the odometry.
-    fusion::MovedScan* moved = options_.motion.enabled && pair ? &moved_ : nullptr;
-    if (moved) robot_->MoveScanToImageTime(*scan, pair->stamp, options_.motion.compensation, moved);
-    motion_ = BuildOverlayFeatures(OverlayBuilder(&error), *scan, moved, options_.motion, features);
+    const fusion::ArFeatureBuilder& builder = OverlayBuilder(&error);
+    const bool compensate = options_.motion.enabled && pair;
+    if (drawn.placement && pair) {
+      // Edge processing's corrected scan: already at the image's time (or known not to be).
+      motion_ = BuildPlacedOverlayFeatures(builder, *scan, *drawn.placement, pair->stamp,
+                                           compensate, options_.motion, features);
+    } else {
+      // The scan at the shown image's capture time (robot clock), moved with the odometry.
+      fusion::MovedScan* moved = compensate ? &moved_ : nullptr;
+      if (moved) {
+        robot_->MoveScanToImageTime(*scan, pair->stamp, options_.motion.compensation, moved);
+      }
+      motion_ = BuildOverlayFeatures(builder, *scan, moved, options_.motion, features);
+    }
     if (!error.empty()) status_line_ = "AR options: " + error;
   }
   fusion::ArFeatureOptions colors = options_.ar;
@@ -194,7 +218,7 @@ bool OperatorConsole::Frame() {
   const SteadyTime start = clock_->SteadyNow();
 
   const client::RobotSnapshot robot = robot_->Snapshot();
-  const std::optional<LaserScan> scan =
+  const FramePicker::DrawnScan scan =
       vision_->picker().ScanToDraw(pair ? robot_->NearestScan(pair->stamp) : robot.latest_scan);
   render::OverlayGeometry overlay;
   fusion::ArFeatures features;

@@ -149,7 +149,7 @@ class OperatorConsole {
   const fusion::ArFeatureBuilder& OverlayBuilder(std::string* error);
   // The frame's overlay: AR features of `scan`, the sonar sectors of the robot's latest belt
   // cycle (when fresh), possible obstacles and the predicted path.
-  void BuildOverlay(const client::RobotSnapshot& robot, const std::optional<LaserScan>& scan,
+  void BuildOverlay(const client::RobotSnapshot& robot, const FramePicker::DrawnScan& drawn,
                     render::OverlayGeometry* overlay, fusion::ArFeatures* features,
                     fusion::SonarFeatures* sonar);
   void DrawPanels(const client::RobotSnapshot& robot, const fusion::ArFeatures& features,

@@ -103,6 +103,8 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) {
   const auto start = std::chrono::steady_clock::now();
   out->stamp = input.stamp;
   out->sequence = input.sequence;
+  out->scan = input.scan;
+  out->placement = input.placement;
   out->ok = false;
   out->error.clear();
   out->stereo = options_.stereo;

@@ -43,6 +43,19 @@ proto::VisionConfig ToProto(const VisionOptions& options);
 // Converts a config (ranges already checked by the loader); IsValid() the result before use.
 VisionOptions FromProto(const proto::VisionConfig& config);
 
+// Where VisionInput::scan stands relative to the images. The pipeline reads only the scan; the
+// placement travels with it to the result, so that whoever draws the result's corrected scan
+// knows whether it is already at the images' time (ui::PlaceScanForVision, motion_overlay.h).
+struct ScanPlacement {
+  // The scan was moved to the images' capture time and resampled on its beam grid
+  // (fusion::ResampleAtImageTime): its frame is the base at that time, its stamp the images'.
+  // False: the scan as measured.
+  bool at_image_time = false;
+  bool extrapolated = false;  // at_image_time, with odometry extrapolated for some pose
+  Time measured_stamp;        // the stamp of the scan as measured (its first beam)
+  std::string reason;         // why it could not be moved; empty when moved or not asked to
+};
+
 // The input of one frame pair: both images of one capture, the scan matched to that capture and
 // the calibration in force. Images: CV_8UC1, CV_8UC3 (BGR) or CV_8UC4 (BGRA) of the cameras'
 // size; `right` may be empty in monoscopic mode. cv::Mat shares its buffer: the caller must not
@@ -52,7 +65,11 @@ struct VisionInput {
   uint64_t sequence = 0;  // frame pair counter of the producer
   cv::Mat left;
   cv::Mat right;
-  LaserScan scan;  // laser frame, the scan matched to the images
+  // The scan matched to the images, laser frame; at the images' time when placement says so.
+  // Virtual rays start at the laser origin of this scan's frame: a scan not moved to the images'
+  // time misregisters edges by the robot's motion in between.
+  LaserScan scan;
+  ScanPlacement placement;
   // Fusion's discontinuity labelling: one flag per beam, or empty.
   std::vector<bool> potential_outliers;
   std::shared_ptr<const math::CameraModel> left_camera;   // Eye::kLeft (or math::kMonoCamera)
@@ -72,6 +89,8 @@ struct VisionResult {
   NescResult nesc;            // stereo only
   std::vector<Nep> selected;  // per beam, the NEPs that were classified
   NepClassification classification;
+  LaserScan scan;               // = VisionInput::scan: the beams the decisions refer to
+  ScanPlacement placement;      // = VisionInput::placement
   Duration processing_time{0};  // wall time of Process()
 };
 

@@ -77,6 +77,7 @@ void EdgeRunner::Run() {
       continue;
     }
     input.scan = std::move(job->scan);
+    input.placement = std::move(job->placement);
     input.potential_outliers = std::move(job->potential_outliers);
     input.left_camera = std::move(job->left_camera);
     input.right_camera = std::move(job->right_camera);

@@ -30,7 +30,8 @@ namespace mostar::web {
 struct EdgeJob {
   uint64_t sequence = 0;                 // the frame's sequence: the result carries it back
   CompressedStereoPair pair;             // both eyes' JPEGs (the right may be empty in mono)
-  LaserScan scan;                        // nearest to the pair's stamp
+  LaserScan scan;                        // nearest to the pair's stamp, placed for edge
+  vision::ScanPlacement placement;       // processing (ui::PlaceScanForVision)
   std::vector<bool> potential_outliers;  // one per beam of `scan` (FrameComposer)
   std::shared_ptr<const math::CameraModel> left_camera;   // the eyes' image models in force
   std::shared_ptr<const math::CameraModel> right_camera;  // may be null in mono

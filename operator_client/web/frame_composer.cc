@@ -67,16 +67,24 @@ ComposedFrame FrameComposer::Compose(const CompressedStereoPair& pair, const Fra
       edges ? inputs.edges->classification.possible_obstacles : kNone;
   // As the console: with the pair's own edge result, the NEP-corrected scan (NEP-corrected
   // points, confirmed outliers removed).
+  // That scan is where edge processing had it (at the pair's time when it could be moved
+  // there): drawn as it is, not moved a second time.
   const LaserScan* scan = inputs.scan ? &*inputs.scan : nullptr;
+  const vision::ScanPlacement* placed = nullptr;
   if (edges && !inputs.edges->classification.corrected_scan.ranges_m.empty()) {
     scan = &inputs.edges->classification.corrected_scan;
+    placed = &inputs.edges->placement;
   }
   std::string error;
   const fusion::ArFeatureBuilder& builder = builders_.For(
       ui::OverlayArOptions(options_.ar, options_.calibration.laser_height_m, false), &error);
   fusion::ArFeatures features;
   ComposedFrame frame;
-  if (scan) {
+  if (scan && placed) {
+    frame.motion =
+        ui::BuildPlacedOverlayFeatures(builder, *scan, *placed, pair.left.stamp,
+                                       options_.motion.enabled, options_.motion, &features);
+  } else if (scan) {
     fusion::MovedScan moved;
     const bool move = options_.motion.enabled && inputs.move_to_pair_time != nullptr;
     if (move) inputs.move_to_pair_time(*scan, &moved);

@@ -56,7 +56,8 @@ struct ComposedFrame {
 struct FrameInputs {
   std::optional<LaserScan> scan;  // nearest to the pair's stamp; none: no walls, no map points
   // The pair's own edge result (null: none): its possible obstacles become magenta dots and,
-  // when it holds one, its NEP-corrected scan replaces `scan`. Ignored unless ok.
+  // when it holds one, its NEP-corrected scan replaces `scan`, drawn where the result's
+  // placement puts it (not moved again). Ignored unless ok.
   std::shared_ptr<const vision::VisionResult> edges;
   // The belt's latest cycle when fresh (the caller judges the age); none: no sonar sectors.
   std::optional<SonarRanges> sonar;

@@ -184,6 +184,45 @@ TEST(FrameComposerTest, ThePairsEdgeResultGivesMagentaDotsAndTheCorrectedScan) {
   for (const PixelVertex& p : f.points) EXPECT_FALSE(IsMagenta(p.rgba));
 }
 
+// The corrected scan of an edge result is where edge processing had it (moved to the pair's time
+// before processing): drawn as it is, never moved a second time.
+TEST(FrameComposerTest, TheCorrectedScanIsNotMovedAgain) {
+  FrameComposer composer{ComposerOptions{}};
+  const LaserScan scan = fusion::testing::MakeScan(fusion::testing::Room(), 181);
+  auto result = std::make_shared<vision::VisionResult>();
+  result->ok = true;
+  result->classification.corrected_scan = scan;
+  result->placement.at_image_time = true;
+  int moves = 0;
+  FrameInputs inputs = WithScan(scan);
+  inputs.move_to_pair_time = [&moves](const LaserScan&, fusion::MovedScan* out) {
+    ++moves;
+    out->moved = false;
+    out->reason = "should not be asked";
+  };
+  testing::ReadFrame unmoved, placed;
+  ComposedFrame frame = composer.Compose(Pair(), WithScan(scan), 1, false);
+  ASSERT_TRUE(testing::Read(*frame.left_only, &unmoved));
+  inputs.edges = result;
+  frame = composer.Compose(Pair(), inputs, 2, false);
+  EXPECT_EQ(moves, 0);
+  EXPECT_TRUE(frame.motion.moved);
+  EXPECT_FALSE(frame.motion.faded);
+  ASSERT_TRUE(testing::Read(*frame.left_only, &placed));
+  ASSERT_EQ(placed.map.size(), unmoved.map.size());
+  for (size_t i = 0; i < placed.map.size(); ++i) {
+    EXPECT_FLOAT_EQ(placed.map[i].x_m, unmoved.map[i].x_m);
+    EXPECT_FLOAT_EQ(placed.map[i].y_m, unmoved.map[i].y_m);
+  }
+  // A result whose scan could not be moved is drawn faded, with the reason it carries.
+  result->placement.at_image_time = false;
+  result->placement.reason = "no odometry at the image time";
+  frame = composer.Compose(Pair(), inputs, 3, false);
+  EXPECT_EQ(moves, 0);
+  EXPECT_TRUE(frame.motion.faded);
+  EXPECT_EQ(frame.motion.reason, "no odometry at the image time");
+}
+
 TEST(FrameComposerTest, PossibleObstaclesWithoutAScanAreStillDrawn) {
   FrameComposer composer{ComposerOptions{}};
   auto result = std::make_shared<vision::VisionResult>();

@@ -35,6 +35,7 @@
 #include "operator_client/client_config.pb.h"
 #include "operator_client/client_options.h"
 #include "operator_client/net/robot_state.h"
+#include "operator_client/ui/motion_overlay.h"
 #include "operator_client/web/edge_runner.h"
 #include "operator_client/web/eye_pairer.h"
 #include "operator_client/web/frame_composer.h"
@@ -373,8 +374,15 @@ int Main(int argc, char** argv) {
           EdgeJob job;
           job.sequence = h.sequence;
           job.pair = h.pair;
-          job.scan = *h.scan;
-          job.potential_outliers = composer.PotentialOutliers(*h.scan);
+          // As the console: the scan moved to the pair's time for edge processing.
+          fusion::MovedScan moved;
+          const bool compensate = composer_options.motion.enabled;
+          if (compensate) {
+            robot.MoveScanToImageTime(*h.scan, h.pair.left.stamp,
+                                      composer_options.motion.compensation, &moved);
+          }
+          job.placement = ui::PlaceScanForVision(*h.scan, compensate ? &moved : nullptr, &job.scan);
+          job.potential_outliers = composer.PotentialOutliers(job.scan);
           job.left_camera = composer.left_model();
           job.right_camera = composer.right_model();
           edge_runner->Submit(std::move(job));
