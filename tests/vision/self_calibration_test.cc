@@ -6,20 +6,34 @@
 // 1 deg, every sign flipped together). Each processed pair's agreeing NEPs feed the rolling
 // window; once per second of driving the window is fitted from the calibration in force, and
 // the simulated operator applies every trustworthy proposal (the edge processing uses it from
-// the next pair on; more NEPs then agree). The test reports how many seconds of driving it takes
-// until the proposal is trustworthy and within 1 % / 0.2 deg / 5 mm / 0.2 deg of the truth with
-// a reprojection p95 <= 1 px, and fails when that does not happen within 30 s. One scenario
-// never applies anything: every fit starts from the perturbed calibration.
+// the next pair on; more NEPs then agree). Every scenario drives the whole 30 s and states what
+// must happen, so that every scenario can fail:
+//  - kReaches: the proposal becomes trustworthy and within 1 % / 0.2 deg / 5 mm / 0.2 deg of the
+//    truth with a reprojection p95 <= 1 px over the correct points it fits (injected wrong
+//    points left out), and every trustworthy proposal after that stays within kSettledBound
+//    times those tolerances (the tilt then drifts to about -0.21 deg: a systematic bias, the
+//    open goal "tilt within 0.1 deg" of issue 36; docs/calibration.md);
+//  - kStaysNear (wrong NEPs injected): some trustworthy proposal has the parameters within
+//    tolerance, and every one from then on stays within kSettledBound times it;
+//  - kRefuses: no fit is ever trustworthy, and the last says why (`refusal`, part of its reason);
+//  - kHalfway: nothing is applied; the last fit from the perturbed start is at least halfway.
+// Every scenario: no trustworthy proposal makes a parameter worse than its start.
 // With `wrong_fraction` > 0 that share of the correspondences is moved 3 to 20 px off the edge
 // in a random direction (wrong NEPs that still agree with the laser).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <deque>
+#include <limits>
+#include <optional>
 #include <random>
 #include <string>
+#include <vector>
 
+#include "common/stats/percentile.h"
 #include "operator_client/calibration/calibration_fit.h"
 #include "operator_client/calibration/edge_correspondences.h"
 #include "operator_client/vision/vision_pipeline.h"
@@ -37,6 +51,12 @@ constexpr double kPairPeriodS = 0.2;  // edge processing at 5 pairs per second
 constexpr int kPairsPerFit = 5;       // one fit per second of driving
 constexpr int kMaxPairs = 150;        // 30 s of driving
 
+enum class Expect { kReaches, kStaysNear, kRefuses, kHalfway };
+
+// How far, in tolerances, a trustworthy proposal may be from the truth once one was within
+// tolerance, and how much worse than its start any trustworthy proposal may make a parameter.
+constexpr double kSettledBound = 1.5;
+
 struct Scenario {
   const char* scene;
   double sign;            // +1: f +10 %, tilt +2 deg, y +3 cm, pan +1 deg; -1: all negative
@@ -46,9 +66,8 @@ struct Scenario {
   // The operator applies every trustworthy proposal (the edge processing then uses it); false:
   // nothing is ever applied and every fit starts from the perturbed calibration.
   bool applies;
-  // The drive should bring the proposal within tolerance (false: the scene hides the wall
-  // bases, see docs/calibration.md; only the safety check below applies).
-  bool expect_reached;
+  Expect expect;
+  const char* refusal = "";  // kRefuses: part of the last fit's reason
 };
 
 std::string Name(const ::testing::TestParamInfo<Scenario>& info) {
@@ -72,21 +91,59 @@ std::array<double, 4> ScaledErrors(const math::LaserCameraCalibration& truth,
 }
 
 // A trustworthy proposal must not make any perturbed parameter worse than the calibration it
-// started from, beyond the tolerance: applying it is safe.
+// started from, beyond kSettledBound tolerances: applying it is safe.
 bool MadeWorse(const math::LaserCameraCalibration& truth, const FitResult& fit) {
   const std::array<double, 4> before = ScaledErrors(truth, fit.start);
   const std::array<double, 4> after = ScaledErrors(truth, fit.proposal);
   for (size_t i = 0; i < before.size(); ++i) {
-    if (after[i] > std::max(before[i], 1.0)) return true;
+    if (after[i] > std::max(before[i], kSettledBound)) return true;
   }
   return false;
 }
 
-// With wrong NEPs the proposal's p95 counts the wrong points that fall within inlier_px of their
-// line: the criterion is then the parameters alone.
+// Distance from a correspondence's pixel to the image of its base line under `model`, pixels
+// (the fit's residual); +Inf when the line does not project.
+double Residual(const math::CameraModel& model, const calibration::EdgeCorrespondence& c) {
+  const std::optional<Eigen::Vector2d> a = model.Project(c.base_laser);
+  const std::optional<Eigen::Vector2d> b = model.Project(c.base_laser + 0.1 * c.direction_laser);
+  if (!a || !b || (*b - *a).norm() < 1e-9) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d d = (*b - *a).normalized();
+  const Eigen::Vector2d v = c.pixel - *a;
+  return std::abs(v.x() * d.y() - v.y() * d.x());
+}
+
+// The proposal's reprojection p95 over the correct points (not injected) it fits (residual
+// within the fit's inlier_px): the fit's own p95 would count injected points that happen to
+// fall near their line.
+double CorrectPointsP95(const FitResult& fit, const calibration::FitInput& input,
+                        const std::vector<bool>& injected, double inlier_px) {
+  const math::CameraModel left(fit.proposal, Eye::kLeft);
+  std::optional<math::CameraModel> right;
+  if (input.right) {
+    right.emplace(calibration::MoveParameters(*input.right, calibration::ParametersOf(fit.start),
+                                              calibration::ParametersOf(fit.proposal)),
+                  Eye::kRight);
+  }
+  std::vector<double> residuals;
+  for (size_t i = 0; i < input.points.size(); ++i) {
+    if (injected[i]) continue;
+    const calibration::EdgeCorrespondence& c = input.points[i];
+    if (c.eye == Eye::kRight && !right) continue;
+    const double r = Residual(c.eye == Eye::kLeft ? left : *right, c);
+    if (r <= inlier_px) residuals.push_back(r);
+  }
+  return Percentile(residuals, 0.95).value_or(std::numeric_limits<double>::infinity());
+}
+
+// The largest of the four parameters' errors, in tolerances (ScaledErrors).
+double WorstScaledError(const math::LaserCameraCalibration& truth, const FitResult& fit) {
+  const std::array<double, 4> e = ScaledErrors(truth, fit.proposal);
+  return *std::max_element(e.begin(), e.end());
+}
+
 bool WithinTolerance(const math::LaserCameraCalibration& truth, const FitResult& fit,
-                     bool clean_points) {
-  return fit.trustworthy && (!clean_points || fit.after.p95_px <= 1.0) &&
+                     double correct_p95_px) {
+  return fit.trustworthy && correct_p95_px <= 1.0 &&
          std::abs(fit.proposal.focal_px / truth.focal_px - 1.0) <= 0.01 &&
          std::abs(fit.proposal.tilt_rad - truth.tilt_rad) <= 0.2 * kDeg &&
          std::abs(fit.proposal.camera_y_m - truth.camera_y_m) <= 0.005 &&
@@ -128,6 +185,7 @@ TEST_P(SelfCalibrationTest, ProposalReachesTheTruthWhileDriving) {
   const VisionOptions options;
   VisionPipeline pipeline{options};
   calibration::CorrespondenceWindow window(3000, std::chrono::seconds(60));
+  std::deque<bool> injected;  // per window point, in the window's order (its capacity, 3000)
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
 
@@ -136,7 +194,12 @@ TEST_P(SelfCalibrationTest, ProposalReachesTheTruthWhileDriving) {
   size_t pairs = 0;
   size_t correspondences = 0;
   int applied = 0;
-  int made_worse = 0;  // trustworthy proposals worse than their start (MadeWorse)
+  int made_worse = 0;        // trustworthy proposals worse than their start (MadeWorse)
+  int trustworthy = 0;       // trustworthy fits
+  int left_bound = 0;        // trustworthy fits beyond kSettledBound after one was within tolerance
+  double settled_worst = 0;  // largest WorstScaledError from then on
+  double parameters_within_s = -1.0;  // the first trustworthy fit with the parameters within
+  double reached_p95_px = 0;          // CorrectPointsP95 of the first fit within tolerance
   for (int k = 0; k <= kMaxPairs; ++k) {
     const double t_s = k * kPairPeriodS;
     const Time t = kStart + FromSeconds(t_s);
@@ -152,21 +215,38 @@ TEST_P(SelfCalibrationTest, ProposalReachesTheTruthWhileDriving) {
     std::vector<calibration::EdgeCorrespondence> found = calibration::ExtractCorrespondences(
         result, input.scan, options.classifier, height_m, calibration::CorrespondenceOptions{});
     for (calibration::EdgeCorrespondence& c : found) {
-      if (unit(rng) >= scenario.wrong_fraction) continue;
+      const bool wrong = unit(rng) < scenario.wrong_fraction;
+      injected.push_back(wrong);
+      if (!wrong) continue;
       const double angle = 2.0 * M_PI * unit(rng);
       c.pixel += (3.0 + 17.0 * unit(rng)) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     }
     correspondences += found.size();
     window.Add(found);
+    while (injected.size() > window.size()) injected.pop_front();  // as the window drops
     if (k == 0 || k % kPairsPerFit != 0) continue;
     fit_input.points = window.Snapshot();
+    ASSERT_EQ(injected.size(), fit_input.points.size());
     calibration::FitOptions fit_options;  // x, z and roll held by default
     if (scenario.all_free) fit_options.free.fill(true);
     last = calibration::FitCalibration(fit_input, fit_options);
-    if (last.trustworthy && MadeWorse(truth[0], last)) ++made_worse;
-    if (WithinTolerance(truth[0], last, scenario.wrong_fraction == 0.0)) {
+    if (!last.trustworthy) continue;
+    ++trustworthy;
+    if (MadeWorse(truth[0], last)) ++made_worse;
+    const double p95_px =
+        CorrectPointsP95(last, fit_input, std::vector<bool>(injected.begin(), injected.end()),
+                         fit_options.inlier_px);
+    const double worst = WorstScaledError(truth[0], last);
+    if (parameters_within_s < 0 && worst <= 1.0) parameters_within_s = t_s;
+    if (reached_s < 0 && WithinTolerance(truth[0], last, p95_px)) {
       reached_s = t_s;
-      break;
+      reached_p95_px = p95_px;
+    }
+    const bool settled =
+        scenario.expect == Expect::kStaysNear ? parameters_within_s >= 0 : reached_s >= 0;
+    if (settled) {
+      settled_worst = std::max(settled_worst, worst);
+      if (worst > kSettledBound) ++left_bound;
     }
     if (scenario.applies && last.trustworthy) {  // the operator's click
       const calibration::ParameterVector from = calibration::ParametersOf(fit_input.left);
@@ -194,15 +274,25 @@ TEST_P(SelfCalibrationTest, ProposalReachesTheTruthWhileDriving) {
       last.before.p50_px, last.before.p95_px, last.after.p50_px, last.after.p95_px, last.points,
       last.inliers, last.trustworthy ? "trustworthy" : last.reason.c_str());
   std::printf(
-      "applied %d proposals; pairs %zu, correspondences %zu, other parameters: x %.1f mm, z %.1f "
-      "mm, roll %.3f deg\n",
-      applied, pairs, correspondences, 1000 * (p.camera_x_m - truth[0].camera_x_m),
+      "parameters within tolerance from %.0f s; "
+      "applied %d proposals, %d trustworthy fits; correct points' p95 when reached %.2f px; "
+      "worst parameter error from then on %.2f tolerances (%d beyond %.1f); pairs %zu, "
+      "correspondences %zu, other parameters: x %.1f mm, z %.1f mm, roll %.3f deg\n",
+      parameters_within_s, applied, trustworthy, reached_p95_px, settled_worst, left_bound,
+      kSettledBound, pairs, correspondences, 1000 * (p.camera_x_m - truth[0].camera_x_m),
       1000 * (p.camera_z_m - truth[0].camera_z_m), (p.roll_rad - truth[0].roll_rad) / kDeg);
   EXPECT_EQ(made_worse, 0) << "trustworthy proposals that made a parameter worse";
-  if (scenario.applies && scenario.expect_reached) {
+  if (scenario.expect == Expect::kReaches) {
     EXPECT_GE(reached_s, 0.0) << "not within tolerance after " << kMaxPairs * kPairPeriodS
                               << " s: " << last.reason;
-  } else if (!scenario.applies) {
+    EXPECT_EQ(left_bound, 0) << "trustworthy proposals drifted away after reaching tolerance";
+  } else if (scenario.expect == Expect::kStaysNear) {
+    EXPECT_GE(parameters_within_s, 0.0) << "never within tolerance: " << last.reason;
+    EXPECT_EQ(left_bound, 0) << "trustworthy proposals drifted away";
+  } else if (scenario.expect == Expect::kRefuses) {
+    EXPECT_EQ(trustworthy, 0) << "expected a refusal (" << scenario.refusal << ")";
+    EXPECT_NE(last.reason.find(scenario.refusal), std::string::npos) << last.reason;
+  } else {
     // Fitted from the perturbed start alone (near, agreeing NEPs only): at least halfway there.
     EXPECT_TRUE(last.ok) << last.reason;
     EXPECT_LT(std::abs(p.focal_px / truth[0].focal_px - 1.0), 0.05);
@@ -214,14 +304,17 @@ TEST_P(SelfCalibrationTest, ProposalReachesTheTruthWhileDriving) {
 
 INSTANTIATE_TEST_SUITE_P(
     Scenes, SelfCalibrationTest,
-    ::testing::Values(Scenario{"corridor", +1, 0.0, false, false, true, true},
-                      Scenario{"corridor", -1, 0.0, false, false, true, true},
-                      Scenario{"checkerboard_room", +1, 0.0, false, false, true, false},
-                      Scenario{"checkerboard_room", -1, 0.0, false, false, true, false},
-                      Scenario{"corridor", +1, 0.3, false, false, true, true},
-                      Scenario{"checkerboard_room", -1, 0.3, false, false, true, false},
-                      Scenario{"corridor", +1, 0.0, false, false, false, false},
-                      Scenario{"corridor", +1, 0.0, true, false, true, false}),
+    ::testing::Values(
+        Scenario{"corridor", +1, 0.0, false, false, true, Expect::kReaches},
+        Scenario{"corridor", -1, 0.0, false, false, true, Expect::kReaches},
+        // The floor's own edges hide the wall bases (docs/calibration.md): too few agree.
+        Scenario{"checkerboard_room", +1, 0.0, false, false, true, Expect::kRefuses, "cover"},
+        Scenario{"checkerboard_room", -1, 0.0, false, false, true, Expect::kRefuses, "too few"},
+        Scenario{"corridor", +1, 0.3, false, false, true, Expect::kStaysNear},
+        Scenario{"checkerboard_room", -1, 0.3, false, false, true, Expect::kRefuses, "too few"},
+        Scenario{"corridor", +1, 0.0, false, false, false, Expect::kHalfway},
+        // x trades off against pan and z against f on a corridor's floor edges.
+        Scenario{"corridor", +1, 0.0, true, false, true, Expect::kRefuses, "uncertain"}),
     Name);
 
 }  // namespace
