@@ -7,6 +7,10 @@ namespace mostar::camera {
 
 namespace {
 constexpr int64_t kThroughputWindowNs = 500'000'000;
+// The delivery rate a frame's transmission time is taken at: the highest throughput measured
+// over this long (a release after a repair leaves a gap in the 500 ms window; that dip is not
+// the link slowing down).
+constexpr int64_t kPeakRateWindowNs = 2'000'000'000;
 constexpr double kMinFramesForLoss = 20;
 }  // namespace
 
@@ -124,14 +128,27 @@ void LinkRateController::AddReceived(const FrameArrival& arrival) {
   while (!received_.empty() && arrival.arrival_ns - received_.front().first > kThroughputWindowNs) {
     received_.pop_front();
   }
+  const double throughput = RecentThroughput();
+  if (throughput <= 0) return;
+  while (!peak_rates_.empty() && peak_rates_.back().second <= throughput) peak_rates_.pop_back();
+  peak_rates_.emplace_back(arrival.arrival_ns, throughput);
+  while (arrival.arrival_ns - peak_rates_.front().first > kPeakRateWindowNs) {
+    peak_rates_.pop_front();
+  }
 }
 
 void LinkRateController::AddDelay(const FrameArrival& arrival, SteadyTime sent) {
   const int64_t send_ns = sent.time_since_epoch().count();
   // The delay of the frame's first byte: less its own transmission time at the rate the link
-  // delivered lately, so that bigger frames at a higher rate do not read as queueing.
-  const double rate = received_.size() >= 2 ? RecentThroughput() : 0;
-  const double transmission_ms = rate > 0 ? arrival.bytes * 8.0 / rate * 1e3 : 0;
+  // delivered lately (its peak over 2 s), so that bigger frames at a higher rate do not read as
+  // queueing. No sample before that rate is measured: a delay with the transmission time in and
+  // one without it differ by a frame period, and the base (the window's minimum) would take the
+  // smaller for 10 s. For the same reason a dip of the rate must not inflate the transmission
+  // time: one such sample, a frame period low, read as 50 ms of queue for the whole window and
+  // held a lossy link's rate at its floor.
+  if (peak_rates_.empty()) return;
+  const double rate = peak_rates_.front().second;
+  const double transmission_ms = arrival.bytes * 8.0 / rate * 1e3;
   const double delay_ms = static_cast<double>(arrival.arrival_ns - send_ns) / 1e6 - transmission_ms;
   const int64_t window_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(options_.base_window).count();

@@ -9,7 +9,8 @@
 // Delay-based part: the one-way delay of each frame, (arrival - send), against its minimum over
 // the last `base_window` (the path without queueing, whatever the clocks' offset; the window
 // follows clock drift; each frame's own transmission time at the delivery rate taken off) gives
-// the queueing delay q of the last frame reported. Its report comes a round trip late, so the
+// the queueing delay q of the last frame reported (transmission at the peak delivery rate of the
+// last 2 s). Its report comes a round trip late, so the
 // decision uses q plus what the frames written since then add: their bits at the delivery rate,
 // less the time that passed. Above `overuse_queue_ms` is over-use, below `normal_queue_ms`
 // normal, between them hold; above `skip_queue_ms` frames are skipped at the source. (GCC fits a
@@ -137,6 +138,8 @@ class LinkRateController {
   std::deque<std::pair<int64_t, double>> base_delays_;
   // Throughput (viewer clock) and loss.
   std::deque<std::pair<int64_t, uint32_t>> received_;  // (arrival ns, bytes), last 500 ms
+  // (arrival ns, throughput), a monotonic deque over 2 s: its front is the peak delivery rate.
+  std::deque<std::pair<int64_t, double>> peak_rates_;
   std::optional<uint64_t> last_sequence_;
   std::optional<SteadyTime> last_sent_;                      // send time of the last frame reported
   std::optional<std::pair<FrameArrival, SteadyTime>> held_;  // newest frame, its delay not used yet
