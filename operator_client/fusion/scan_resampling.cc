@@ -24,7 +24,8 @@ bool ResampleAtImageTime(const LaserScan& scan, const MovedScan& moved, LaserSca
   const size_t n = scan.ranges_m.size();
   const double increment = scan.angle_increment_rad;
   if (!moved.moved || moved.points.size() != n || moved.azimuths_rad.size() != n ||
-      !std::isfinite(increment) || increment <= 0.0) {
+      !std::isfinite(increment) || increment < kMinIncrementRad ||
+      !std::isfinite(scan.angle_min_rad)) {
     return false;
   }
   const double angle_min = scan.angle_min_rad;
@@ -50,15 +51,16 @@ bool ResampleAtImageTime(const LaserScan& scan, const MovedScan& moved, LaserSca
   }
   // Calls visit(j, shift) for every target beam j whose relative angle j * increment lies in
   // [lo, hi] + shift, shift 0 or +-2 pi (an interval reaching past 0 or 2 pi wraps round).
+  // Intervals with a non-finite end (a moved point of NaN odometry) reach no target. The bounds
+  // are clamped to the grid before they become integers.
   const auto for_each_target = [&](double lo, double hi, const auto& visit) {
+    if (!std::isfinite(lo) || !std::isfinite(hi) || lo > hi) return;
+    const double last_index = static_cast<double>(n) - 1.0;
     for (const double shift : {0.0, -kTwoPi, kTwoPi}) {
       if (hi + shift < 0.0 || lo + shift > kTwoPi) continue;
-      const int64_t first =
-          std::max<int64_t>(0, static_cast<int64_t>(std::ceil((lo + shift) / increment - 1e-9)));
-      const int64_t last =
-          std::min<int64_t>(static_cast<int64_t>(n) - 1,
-                            static_cast<int64_t>(std::floor((hi + shift) / increment + 1e-9)));
-      for (int64_t j = first; j <= last; ++j) visit(static_cast<size_t>(j), shift);
+      const double first = std::max(0.0, std::ceil((lo + shift) / increment - 1e-9));
+      const double last = std::min(last_index, std::floor((hi + shift) / increment + 1e-9));
+      for (double j = first; j <= last; j += 1.0) visit(static_cast<size_t>(j), shift);
     }
   };
 

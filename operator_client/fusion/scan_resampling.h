@@ -19,6 +19,8 @@ namespace mostar::fusion {
 // that neighbouring points are taken for an occlusion edge and are not joined.
 inline constexpr double kSurfaceGapMinM = 0.10;
 inline constexpr double kSurfaceGapPerRad = 4.0;
+// The smallest beam step resampled (no laser has finer steps than 0.25 degree).
+inline constexpr double kMinIncrementRad = 1e-4;
 
 // Resamples `scan`, moved into `moved` (MoveScanToImageTime's output for this scan with
 // moved.moved true), onto the scan's beam grid seen from the base's origin at the image time.
@@ -33,7 +35,8 @@ inline constexpr double kSurfaceGapPerRad = 4.0;
 // `out` keeps the scan's grid, sequence, range limits and scan time; its stamp is the image's
 // (scan.stamp + moved.image_minus_scan) and time_increment_s is 0: every beam is at that time.
 // Returns false, and `out` holds `scan` unchanged, when `moved` is not moved or does not match
-// the scan, or the scan's angle increment is not finite and positive.
+// the scan, or the scan's angle_min_rad is not finite or its increment not finite and at least
+// kMinIncrementRad. Non-finite moved points (NaN odometry) place nothing.
 bool ResampleAtImageTime(const LaserScan& scan, const MovedScan& moved, LaserScan* out);
 
 }  // namespace mostar::fusion

@@ -150,6 +150,30 @@ TEST(ScanResamplingTest, RefusesWhatItCannotResample) {
   no_increment.angle_increment_rad = 0.f;
   EXPECT_FALSE(ResampleAtImageTime(no_increment, Turned(scan, 0.1), &out));
   EXPECT_EQ(out.angle_increment_rad, 0.f);
+  LaserScan tiny_increment = scan;
+  tiny_increment.angle_increment_rad = 1e-30f;
+  EXPECT_FALSE(ResampleAtImageTime(tiny_increment, Turned(scan, 0.1), &out));
+  LaserScan no_start = scan;
+  no_start.angle_min_rad = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(ResampleAtImageTime(no_start, Turned(scan, 0.1), &out));
+}
+
+TEST(ScanResamplingTest, NonFiniteMovedPointsPlaceNothingAndTheRestIsResampled) {
+  const LaserScan scan = HalfCircleScan();  // 3 m all round
+  MovedScan moved = Turned(scan, 0.0);
+  for (size_t i = 60; i < 70; ++i) {  // odometry gave NaN for these beams
+    moved.points[i] = {kNaN, kNaN};
+    moved.azimuths_rad[i] = kNaN;
+  }
+  LaserScan out;
+  ASSERT_TRUE(ResampleAtImageTime(scan, moved, &out));
+  for (size_t j = 0; j < out.ranges_m.size(); ++j) {
+    if (j >= 60 && j < 70) {
+      EXPECT_TRUE(std::isnan(out.ranges_m[j])) << j;
+    } else {
+      EXPECT_NEAR(out.ranges_m[j], 3.f, 1e-4) << j;
+    }
+  }
 }
 
 TEST(ScanResamplingTest, MovingToTheImageTimeAndResamplingKeepsAStillScene) {
