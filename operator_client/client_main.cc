@@ -19,6 +19,7 @@
 #include "common/process/restart_in_place.h"
 #include "common/process/stop_signals.h"
 #include "common/record/recording_writer.h"
+#include "common/sync/wake_signal.h"
 #include "operator_client/client_command_line.h"
 #include "operator_client/client_config.pb.h"
 #include "operator_client/client_options.h"
@@ -37,6 +38,11 @@
 
 namespace mostar::client {
 namespace {
+
+// The render loop's longest sleeps when nothing wakes it (WakeSignal, input events).
+constexpr Duration kHeadlessIdle = std::chrono::milliseconds(20);  // run limits, lease
+constexpr Duration kVisibleIdle = std::chrono::milliseconds(50);   // HUD clock at 20 Hz
+constexpr Duration kGamepadPoll = std::chrono::milliseconds(10);   // sticks at 100 Hz
 
 int Run(int argc, char** argv) {
   CLI::App app{"operator_client: stereoscopic AR view of the robot and driving console."};
@@ -207,6 +213,12 @@ int Run(int argc, char** argv) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
+  // The render loop sleeps until a pair is decoded or an edge result published (a visible
+  // window's event wait is ended for it), or a pair's result wait ends.
+  WakeSignal wake;
+  if (!headless) wake.SetHook([] { ui::Window::WakeUp(); });
+  video.SetWakeSignal(&wake);
+  console.SetWakeSignal(&wake);
   if (line.capture_stamp_ns >= 0) console.CapturePair(FromUnixNanos(line.capture_stamp_ns));
   if (line.scripted_drive.size() == 2) {
     console.SetScriptedDrive({line.scripted_drive[0], line.scripted_drive[1], true});
@@ -234,7 +246,17 @@ int Run(int argc, char** argv) {
     if (ui::CaptureAfterDue(line.capture_after, console.capturing(), video.Stats().pairs_decoded)) {
       console.CapturePair(std::nullopt);
     }
-    if (!console.Frame() && headless) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    const bool drawn = console.Frame();
+    if (headless) {
+      // Nothing new was drawn: sleep until something is (the HUD needs no refresh headless).
+      if (!drawn) wake.WaitFor(console.IdleWait(kHeadlessIdle));
+    } else {
+      // Input events wake the window too; the HUD refreshes at least every kVisibleIdle, a
+      // gamepad (polled, it sends no events) every kGamepadPoll.
+      wake.TakePending();
+      ui::Window::WaitEvents(
+          console.IdleWait(ui::Window::GamepadPresent() ? kGamepadPoll : kVisibleIdle));
+    }
     if (ui::CheckRunEnd(limits, console.captured(), console.rendered_pairs(),
                         clock->SteadyNow() - start) != ui::RunEnd::kRunning) {
       break;
@@ -242,6 +264,8 @@ int Run(int argc, char** argv) {
   }
   {  // Fast DDS 2.9 can block here; end within 2 s of SIGTERM anyway (status 4, no report)
     const ExitDeadline deadline(FromMilliseconds(1500), 4, "operator_client", "DDS teardown");
+    video.SetWakeSignal(nullptr);
+    wake.SetHook(nullptr);
     commands.Stop();
     video.SetKeyframeRequester(nullptr);  // they write through the node
     video.SetFeedbackSender(nullptr);

@@ -80,6 +80,7 @@ bool ConsoleOptionsFromConfig(const ClientConfig& config, const std::string& con
   }
   options->intrinsics_from_robot = config.intrinsics_from_robot();
   options->vision_enabled = config.vision_enabled();
+  options->vision_result_wait = FromMilliseconds(config.vision_result_wait_ms());
   options->vision = vision::FromProto(config.vision());
   if (!options->vision.IsValid(error)) {
     *error = "vision: " + *error;

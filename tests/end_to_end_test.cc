@@ -232,8 +232,8 @@ TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
     EXPECT_NE(at, std::string::npos) << key << " missing in the report";
     return at == std::string::npos ? -1e9 : std::stod(report.substr(at + key.size() + 2));
   };
-  for (const char* stage :
-       {"encoded", "written", "received", "decoded", "picked", "vision", "drawn", "presented"}) {
+  for (const char* stage : {"encoded", "written", "received", "queued", "decoded", "picked",
+                            "vision", "started", "drawn", "presented"}) {
     EXPECT_GE(value(std::string("latency_") + stage + "_ms_p50"), -1.0) << stage;
   }
   EXPECT_GT(value("latency_total_ms_p50"), 0.0);

@@ -23,4 +23,13 @@ std::vector<EyeViewport> EyeViewports(DisplayMode mode, int w, int h) {
   return {{Eye::kLeft, 0, 0, w, h}, {Eye::kRight, 0, 0, w, h}};
 }
 
+std::array<bool, 2> EyesShown(DisplayMode mode, bool quad_buffer_available) {
+  if (mode == DisplayMode::kQuadBuffer && !quad_buffer_available) mode = DisplayMode::kMonoLeft;
+  std::array<bool, 2> shown = {false, false};
+  for (const EyeViewport& viewport : EyeViewports(mode, 2, 2)) {
+    shown[viewport.eye == math::Eye::kLeft ? 0 : 1] = true;
+  }
+  return shown;
+}
+
 }  // namespace mostar::render

@@ -2,6 +2,7 @@
 // stereo compositor (drawing) and the console (distance labels over each eye) use. Pure.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "common/math/camera_model.h"
@@ -32,5 +33,10 @@ struct EyeViewport {
 // blend both eyes over the whole window (anaglyphs, row interlacing, quad buffer) give both
 // eyes the whole window.
 std::vector<EyeViewport> EyeViewports(DisplayMode mode, int window_w, int window_h);
+
+// Which eyes (by math::Eye index: left, right) `mode` puts on screen; the others need not be
+// drawn. Quad-buffer stereo without a stereo framebuffer shows the left eye (the compositor's
+// fallback).
+std::array<bool, 2> EyesShown(DisplayMode mode, bool quad_buffer_available);
 
 }  // namespace mostar::render

@@ -95,5 +95,16 @@ TEST(EyeViewportsTest, OddSizesGiveTheExtraPixelToTheRightEye) {
   EXPECT_EQ(v[1].height_px, 241);
 }
 
+TEST(EyeViewportsTest, MonoModesShowOneEyeAndTheOthersBoth) {
+  using Shown = std::array<bool, 2>;
+  EXPECT_EQ(EyesShown(DisplayMode::kMonoLeft, false), (Shown{true, false}));
+  EXPECT_EQ(EyesShown(DisplayMode::kMonoRight, true), (Shown{false, true}));
+  EXPECT_EQ(EyesShown(DisplayMode::kAnaglyphColor, false), (Shown{true, true}));
+  EXPECT_EQ(EyesShown(DisplayMode::kSideBySideHalf, false), (Shown{true, true}));
+  EXPECT_EQ(EyesShown(DisplayMode::kQuadBuffer, true), (Shown{true, true}));
+  // Without a stereo framebuffer the compositor shows the left eye only.
+  EXPECT_EQ(EyesShown(DisplayMode::kQuadBuffer, false), (Shown{true, false}));
+}
+
 }  // namespace
 }  // namespace mostar::render

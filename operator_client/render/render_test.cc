@@ -293,6 +293,27 @@ TEST_F(RenderTest, TextureUploadsGreyImagesAndReusesItsName) {
   EXPECT_EQ(swizzle[3], GL_ONE);
 }
 
+TEST_F(RenderTest, TextureRewritesAnImageOfTheSameSizeAndKindInPlace) {
+  cv::Mat first(21, 37, CV_8UC3);
+  cv::randu(first, cv::Scalar::all(0), cv::Scalar::all(256));
+  cv::Mat big(60, 90, CV_8UC3);
+  cv::randu(big, cv::Scalar::all(0), cv::Scalar::all(256));
+  const cv::Mat second = big(cv::Rect(7, 3, 37, 21));  // same size, another stride
+  Texture texture;
+  texture.Upload(first);
+  texture.Upload(second);
+  EXPECT_TRUE(Identical(ReadTexture(texture, CV_8UC3, GL_BGR), second));
+  // Then a grey image of that size: new storage of the grey kind.
+  cv::Mat grey(21, 37, CV_8UC1);
+  cv::randu(grey, cv::Scalar::all(0), cv::Scalar::all(256));
+  texture.Upload(grey);
+  EXPECT_TRUE(Identical(ReadTexture(texture, CV_8UC1, GL_RED), grey));
+  // And a larger colour one: reallocated.
+  texture.Upload(big);
+  EXPECT_EQ(texture.width(), 90);
+  EXPECT_TRUE(Identical(ReadTexture(texture, CV_8UC3, GL_BGR), big));
+}
+
 TEST_F(RenderTest, TextureMoveHandsOverTheName) {
   Texture a;
   a.Upload(cv::Mat(4, 4, CV_8UC3, cv::Scalar(9, 9, 9)));

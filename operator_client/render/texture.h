@@ -19,7 +19,8 @@ class Texture {
   // Replaces the contents with `image`: CV_8UC3 in BGR order, or CV_8UC1 sampled as grey
   // (r = g = b, alpha 1). Any row stride (ROIs included). Linear filtering, clamped to the
   // edges. Leaves the texture bound to GL_TEXTURE_2D on the active unit. An empty image is
-  // ignored.
+  // ignored. An image of the size and kind of the previous one is written into the texture's
+  // storage (glTexSubImage2D), with no reallocation.
   void Upload(const cv::Mat& image);
 
   unsigned id() const { return id_; }  // 0 before the first Upload()
@@ -30,6 +31,7 @@ class Texture {
   unsigned id_ = 0;
   int width_ = 0;
   int height_ = 0;
+  bool grey_ = false;
 };
 
 }  // namespace mostar::render

@@ -21,13 +21,13 @@ void ConsoleVision::GeometryChanged(std::shared_ptr<const math::CameraModel> lef
 }
 
 void ConsoleVision::Update(const std::optional<client::DecodedStereoPair>& latest, bool enabled,
-                           const ScanForImage& scan_for,
+                           SteadyTime now, const ScanForImage& scan_for,
                            const fusion::ArFeatureBuilder& outliers_of) {
   if (!enabled) {
     picker_.ShowUnprocessed(latest);
     return;
   }
-  if (picker_.TakeNew(latest)) {
+  if (picker_.TakeNew(latest, now)) {
     vision::VisionInput input;
     input.stamp = latest->stamp;
     input.sequence = latest->sequence;
@@ -43,7 +43,7 @@ void ConsoleVision::Update(const std::optional<client::DecodedStereoPair>& lates
     last_submitted_ = input.sequence;
     worker_.Submit(std::move(input));
   }
-  picker_.OnResult(worker_.LatestResult(), latest);
+  picker_.OnResult(worker_.LatestResult(), latest, now, result_wait_);
 }
 
 std::optional<StereoOffsetHint> ConsoleVision::OffsetHint(

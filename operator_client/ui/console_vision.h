@@ -42,12 +42,22 @@ class ConsoleVision {
   void GeometryChanged(std::shared_ptr<const math::CameraModel> left,
                        std::shared_ptr<const math::CameraModel> right);
 
-  // One render tick. `enabled` false: the latest pair is shown as it is. Else a new pair goes to
-  // the worker with its scan (`scan_for`) and `outliers_of` that scan's potential-outlier labels
-  // (the overlay's builder, so a live slopeTh edit moves what edges confirm), and the shown
-  // pair follows the results.
-  void Update(const std::optional<client::DecodedStereoPair>& latest, bool enabled,
+  // One render tick at `now` (this machine's monotonic clock). `enabled` false: the latest pair
+  // is shown as it is. Else a new pair goes to the worker with its scan (`scan_for`) and
+  // `outliers_of` that scan's potential-outlier labels (the overlay's builder, so a live slopeTh
+  // edit moves what edges confirm), and the shown pair follows the results and the result wait
+  // (FramePicker).
+  void Update(const std::optional<client::DecodedStereoPair>& latest, bool enabled, SteadyTime now,
               const ScanForImage& scan_for, const fusion::ArFeatureBuilder& outliers_of);
+
+  // How long a new pair waits for its edge result before it is shown without it (>= 0).
+  void SetResultWait(Duration wait) { result_wait_ = wait; }
+  Duration result_wait() const { return result_wait_; }
+  // When the render loop must look again although nothing was notified: the end of the newest
+  // pair's result wait; nullopt when no pair waits.
+  std::optional<SteadyTime> NextWaitEnd() const { return picker_.NextWaitEnd(result_wait_); }
+  // Notified when a result is published (not owned; outlives this object or reset to nullptr).
+  void SetWakeSignal(WakeSignal* signal) { worker_.SetWakeSignal(signal); }
 
   const FramePicker& picker() const { return picker_; }
 
@@ -68,6 +78,7 @@ class ConsoleVision {
   std::shared_ptr<const math::CameraModel> left_model_;  // shared with the worker's ray cache
   std::shared_ptr<const math::CameraModel> right_model_;
   uint64_t last_submitted_ = 0;  // sequence of the last pair handed to the worker
+  Duration result_wait_ = std::chrono::milliseconds(10);
   StereoHintGate hint_gate_;
   FramePicker picker_;
 };

@@ -51,7 +51,7 @@ struct FakeProcess {
 bool ShowResult(ConsoleVision* vision, const client::DecodedStereoPair& pair,
                 const ConsoleVision::ScanForImage& nearest, const fusion::ArFeatureBuilder& b) {
   for (int i = 0; i < 2000; ++i) {
-    vision->Update(pair, true, nearest, b);
+    vision->Update(pair, true, SteadyTime{}, nearest, b);  // the wait never runs out
     const auto& shown = vision->picker().shown_result();
     if (shown && shown->sequence == pair.sequence) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -95,12 +95,54 @@ TEST(ConsoleVisionTest, HandsEachNewPairOverOnceWithItsPlacedScanModelsAndOutlie
   EXPECT_EQ(input.right_camera, right);
 }
 
+TEST(ConsoleVisionTest, APairIsShownWithoutItsResultOnceTheWaitEndsAndTheResultIsAddedLater) {
+  // A worker held until released: its result for pair 1 comes after the wait.
+  std::mutex gate;
+  gate.lock();
+  std::atomic<int> calls{0};
+  ConsoleVision vision(vision::VisionOptions{},
+                       [&](const vision::VisionInput& input, vision::VisionResult* result) {
+                         std::lock_guard<std::mutex> held(gate);
+                         result->sequence = input.sequence;
+                         result->stamp = input.stamp;
+                         result->ok = true;
+                         ++calls;
+                       });
+  WakeSignal wake;
+  vision.SetWakeSignal(&wake);
+  vision.SetResultWait(std::chrono::milliseconds(10));
+  const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
+  const auto none = [](Time) { return std::optional<ConsoleVision::PlacedScan>(); };
+  const SteadyTime t0 = SteadyTime(std::chrono::seconds(50));
+  vision.Update(Pair(1), true, t0, none, builder);  // nothing shown yet: shown at once
+  vision.Update(Pair(2), true, t0, none, builder);
+  EXPECT_EQ(vision.picker().shown_pair()->sequence, 1u);
+  ASSERT_TRUE(vision.NextWaitEnd().has_value());
+  EXPECT_EQ(*vision.NextWaitEnd(), t0 + std::chrono::milliseconds(10));
+  vision.Update(Pair(2), true, t0 + std::chrono::milliseconds(10), none, builder);
+  EXPECT_EQ(vision.picker().shown_pair()->sequence, 2u);
+  EXPECT_EQ(vision.picker().result_state(), FramePicker::ResultState::kWaiting);
+  gate.unlock();
+  // The worker's results wake the loop; pair 2's is added to the shown pair.
+  bool added = false;
+  for (int i = 0; i < 200 && !added; ++i) {
+    wake.WaitFor(std::chrono::milliseconds(50));
+    vision.Update(Pair(2), true, t0 + std::chrono::milliseconds(20), none, builder);
+    added = vision.picker().result_state() == FramePicker::ResultState::kAddedLate;
+  }
+  ASSERT_TRUE(added);
+  EXPECT_EQ(vision.picker().shown_result()->sequence, 2u);
+  EXPECT_GE(wake.notifications(), 1u);
+  vision.SetWakeSignal(nullptr);
+}
+
 TEST(ConsoleVisionTest, DisabledShowsTheLatestPairWithoutTheWorker) {
   FakeProcess fake;
   ConsoleVision vision(vision::VisionOptions{}, fake.Function());
   const fusion::ArFeatureBuilder builder{fusion::ArFeatureOptions{}};
   vision.Update(
-      Pair(5), false, [](Time) { return std::optional<ConsoleVision::PlacedScan>(); }, builder);
+      Pair(5), false, SteadyTime{}, [](Time) { return std::optional<ConsoleVision::PlacedScan>(); },
+      builder);
   ASSERT_TRUE(vision.picker().shown_pair());
   EXPECT_EQ(vision.picker().shown_pair()->sequence, 5u);
   EXPECT_EQ(fake.calls.load(), 0);

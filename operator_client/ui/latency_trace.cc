@@ -12,12 +12,16 @@ const char* LatencyStageName(LatencyStage stage) {
       return "written";
     case LatencyStage::kReceived:
       return "received";
+    case LatencyStage::kQueued:
+      return "queued";
     case LatencyStage::kDecoded:
       return "decoded";
     case LatencyStage::kPicked:
       return "picked";
     case LatencyStage::kVision:
       return "vision";
+    case LatencyStage::kStarted:
+      return "started";
     case LatencyStage::kDrawn:
       return "drawn";
     case LatencyStage::kPresented:

@@ -20,9 +20,11 @@ enum class LatencyStage : int {
   kEncoded = 0,  // robot: capture to both JPEGs encoded (incl. waiting for the encoder)
   kWritten,      // robot: handed to DDS (ack-clock lane, serialisation)
   kReceived,     // network and DDS delivery: both eyes here
-  kDecoded,      // both eyes decoded (incl. waiting for the decode thread)
-  kPicked,       // the render loop took the pair (waiting for a render tick)
-  kVision,       // its edge result shown with it (zero when edge processing is off)
+  kQueued,       // the decoder thread took the pair (waiting behind the pair being decoded)
+  kDecoded,      // both eyes decoded (the decode work, both eyes at once)
+  kPicked,       // the render loop took the pair (its wake-up, or a frame being drawn)
+  kVision,       // its edge result published, or its result wait ran out (zero when off)
+  kStarted,      // the frame that shows it began (waiting for the render loop)
   kDrawn,        // images, overlay and panels drawn (CPU side of the frame)
   kPresented,    // buffers swapped and the GPU finished (glFinish)
   kCount

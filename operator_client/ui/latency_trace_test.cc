@@ -37,8 +37,8 @@ TEST(LatencyTraceTest, StagesOfACompleteTimelineAddUpToTheTotal) {
   ASSERT_EQ(rows.size(), static_cast<size_t>(kLatencyStageCount) + 2);
   EXPECT_EQ(rows[0].name, "encoded");
   EXPECT_DOUBLE_EQ(rows[0].p50_ms, 1.0);
-  EXPECT_DOUBLE_EQ(Row(rows, "presented").p50_ms, 8.0);
-  EXPECT_DOUBLE_EQ(Row(rows, "total").p50_ms, 36.0);  // 1 + 2 + ... + 8
+  EXPECT_DOUBLE_EQ(Row(rows, "presented").p50_ms, 10.0);
+  EXPECT_DOUBLE_EQ(Row(rows, "total").p50_ms, 55.0);  // 1 + 2 + ... + 10
   EXPECT_NEAR(Row(rows, "unexplained").p50_ms, 0.0, 1e-9);
   EXPECT_EQ(trace.pairs(), 1u);
 }
@@ -52,7 +52,7 @@ TEST(LatencyTraceTest, AMissingStampLeavesItsTimeAndTheNextUnexplained) {
   EXPECT_EQ(Row(rows, "written").samples, 0u);
   EXPECT_EQ(Row(rows, "received").samples, 0u) << "its start is unknown";
   EXPECT_NEAR(Row(rows, "unexplained").p50_ms, 2.0 + 3.0, 1e-9);
-  EXPECT_DOUBLE_EQ(Row(rows, "total").p50_ms, 36.0);
+  EXPECT_DOUBLE_EQ(Row(rows, "total").p50_ms, 55.0);
 }
 
 TEST(LatencyTraceTest, PairsThatNeverReachedTheScreenAreCountedNotTimed) {
@@ -71,14 +71,14 @@ TEST(LatencyTraceTest, PercentilesOverTheLastWindowOfPairs) {
   for (int i = 0; i < 30; ++i)
     trace.Add(Complete(kCapture + milliseconds(33 * i), i < 20 ? 10 : 1));
   EXPECT_EQ(trace.pairs(), 10u);
-  EXPECT_DOUBLE_EQ(Row(trace.Rows(), "total").p95_ms, 36.0) << "the slow pairs left the window";
+  EXPECT_DOUBLE_EQ(Row(trace.Rows(), "total").p95_ms, 55.0) << "the slow pairs left the window";
   LatencyTrace mixed;
   for (int i = 0; i < 19; ++i) mixed.Add(Complete(kCapture, 1));
   mixed.Add(Complete(kCapture, 2));
-  EXPECT_DOUBLE_EQ(Row(mixed.Rows(), "total").p50_ms, 36.0);
-  EXPECT_DOUBLE_EQ(Row(mixed.Rows(), "total").p95_ms, 36.0);  // nearest rank 19 of 20
+  EXPECT_DOUBLE_EQ(Row(mixed.Rows(), "total").p50_ms, 55.0);
+  EXPECT_DOUBLE_EQ(Row(mixed.Rows(), "total").p95_ms, 55.0);  // nearest rank 19 of 20
   mixed.Add(Complete(kCapture, 2));
-  EXPECT_DOUBLE_EQ(Row(mixed.Rows(), "total").p95_ms, 72.0);  // rank 20 of 21
+  EXPECT_DOUBLE_EQ(Row(mixed.Rows(), "total").p95_ms, 110.0);  // rank 20 of 21
 }
 
 TEST(LatencyTraceTest, StageNamesAreDistinct) {

@@ -1,8 +1,12 @@
 #include "operator_client/ui/operator_console.h"
 
+#include <algorithm>
+#include <array>
+
 #include "common/check/check.h"
 #include "common/log/log.h"
 #include "common/math/calibration_io.h"
+#include "operator_client/render/eye_viewports.h"
 #include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
 #include "operator_client/ui/overlay_assembly.h"
@@ -39,6 +43,7 @@ bool OperatorConsole::Init(std::string* error) {
   imgui_ = std::make_unique<ImGuiLayer>(window_->get());
   if (!options_.vision.IsValid(error)) return false;
   vision_ = std::make_unique<ConsoleVision>(options_.vision);
+  vision_->SetResultWait(options_.vision_result_wait);
   return true;
 }
 
@@ -114,8 +119,18 @@ void OperatorConsole::RefreshGeometry(const client::RobotSnapshot& robot) {
                            std::make_shared<const math::CameraModel>(geometry_.eye(1).image));
 }
 
+void OperatorConsole::SetWakeSignal(WakeSignal* signal) { vision_->SetWakeSignal(signal); }
+
+Duration OperatorConsole::IdleWait(Duration idle) const {
+  if (!options_.vision_enabled) return idle;
+  const std::optional<SteadyTime> wait_end = vision_->NextWaitEnd();
+  if (!wait_end) return idle;
+  return std::clamp<Duration>(*wait_end - clock_->SteadyNow(), Duration(0), idle);
+}
+
 void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair>& latest) {
-  if (latest) tracer_.Picked(latest->sequence, clock_->SteadyNow());
+  const SteadyTime now = clock_->SteadyNow();
+  if (latest) tracer_.Picked(latest->sequence, now);
   std::string error;
   // Edge processing sees the nearest scan from the camera's pose: moved to the pair's capture
   // time and resampled on its beams (PlaceScanForVision); its corrected scan is drawn as it is.
@@ -131,7 +146,7 @@ void OperatorConsole::UpdateVision(const std::optional<client::DecodedStereoPair
     placed.placement = PlaceScanForVision(*nearest, compensate ? &moved : nullptr, &placed.scan);
     return placed;
   };
-  vision_->Update(latest, options_.vision_enabled, scan_for, OverlayBuilder(&error));
+  vision_->Update(latest, options_.vision_enabled, now, scan_for, OverlayBuilder(&error));
   selfcal_.Update(vision_->picker().shown_result(), robot_->Snapshot().odometry, options_.vision,
                   geometry_);
 }
@@ -208,13 +223,17 @@ bool OperatorConsole::Frame() {
   }
   HandleInput();
   UpdateVision(CaptureFilter(video_->Latest()));
-  const std::optional<client::DecodedStereoPair>& pair = vision_->picker().shown_pair();
+  const FramePicker& picker = vision_->picker();
+  const std::optional<client::DecodedStereoPair>& pair = picker.shown_pair();
   const bool new_pair = pair && pair->sequence != last_pair_;
+  // The shown pair's edge result came after it was first drawn: drawn again with it.
+  const bool new_result = !new_pair && pair && picker.shown_version() != last_version_;
   // A render of the captured pair with its scans and edge result in.
-  const bool capture_render =
-      capture_ &&
-      capture_->IsCaptureRender(pair, options_.vision_enabled, vision_->picker().result_sequence());
-  if (options_.headless && !new_pair && !capture_render) return false;
+  const bool capture_render = capture_ && capture_->IsCaptureRender(pair, options_.vision_enabled,
+                                                                    picker.result_sequence());
+  if (options_.headless && !new_pair && !new_result && !capture_render) return false;
+  last_version_ = picker.shown_version();
+  if (new_result) ++redrawn_with_result_;
   const SteadyTime start = clock_->SteadyNow();
 
   const client::RobotSnapshot robot = robot_->Snapshot();
@@ -227,7 +246,10 @@ bool OperatorConsole::Frame() {
   sonar_echoes_ = sonar.echoes;
   sonar_unseen_ = sonar.unseen;
 
+  // Only the eyes the display mode shows are drawn (one in mono).
+  const std::array<bool, 2> shown_eyes = render::EyesShown(options_.mode, window_->quad_buffer());
   for (int e = 0; e < 2; ++e) {
+    if (!shown_eyes[static_cast<size_t>(e)]) continue;
     static const cv::Mat kEmpty;
     const cv::Mat& image = pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
     eyes_[e].Render(
@@ -240,9 +262,9 @@ bool OperatorConsole::Frame() {
   DrawPanels(robot, features, sonar, pair, fb_w, fb_h);
   imgui_->EndFrame();
   const SteadyTime drawn = clock_->SteadyNow();
-  if (new_pair) {
+  if (new_pair || new_result) {
+    if (new_pair) ++rendered_pairs_;
     last_pair_ = pair->sequence;
-    ++rendered_pairs_;
     if (options_.headless && options_.keep_last_frame) {
       last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
     }
@@ -256,11 +278,15 @@ bool OperatorConsole::Frame() {
     const RobotTimeMapper to_robot(clock_->Now(), clock_->SteadyNow(), robot.clock);
     shown_.Add(ToSeconds(to_robot(drawn) - pair->stamp) * 1e3, frame_time_ms_);  // capture to drawn
     shown_.CountOverlay(motion_.moved, motion_.faded);
-    latency_.Add(tracer_.Timeline({pair->sequence, pair->stamp, pair->received, pair->decoded},
-                                  robot_->TimingOf(pair->stamp), {start, drawn, presented},
-                                  options_.vision_enabled, to_robot));
+    if (!first_presented_) first_presented_ = presented;
+    if (presented - *first_presented_ >= options_.trace_warmup) {
+      latency_.Add(tracer_.Timeline(
+          {pair->sequence, pair->stamp, pair->received, pair->decode_started, pair->decoded},
+          robot_->TimingOf(pair->stamp), {picker.shown_ready_at(), start, drawn, presented},
+          options_.vision_enabled, to_robot));
+    }
   }
-  return new_pair;
+  return true;
 }
 
 ConsoleRunTotals OperatorConsole::RunTotals(Duration run) const {
@@ -280,6 +306,11 @@ ConsoleRunTotals OperatorConsole::RunTotals(Duration run) const {
   totals.overlays_moved = shown_.overlays_moved();
   totals.overlays_faded = shown_.overlays_faded();
   totals.latency = latency_.Rows();
+  const FramePicker::Counts& vision = vision_->picker().counts();
+  totals.vision_in_time = vision.in_time;
+  totals.vision_without_result = vision.without_result;
+  totals.vision_added_late = vision.added_late;
+  totals.vision_missed = vision.missed;
   return totals;
 }
 

@@ -70,6 +70,12 @@ struct ConsoleOptions {
   // Edge processing (thesis 8, 9.2): NEPs correct the overlay, mark obstacles the laser
   // missed and confirm outliers. Toggled with E; thresholds in the edge view (V).
   bool vision_enabled = true;
+  // How long a new pair waits for its edge result before it is shown without it (its dots and
+  // correction are added when the result comes, unless a newer pair is on screen by then).
+  Duration vision_result_wait = std::chrono::milliseconds(10);
+  // Pairs shown in this long after the first one are left out of the latency trace (start-up:
+  // discovery, the first decodes, caches filling).
+  Duration trace_warmup = std::chrono::seconds(2);
   // Use the intrinsics the robot publishes (focal, principal point, distortion).
   bool intrinsics_from_robot = true;
   vision::VisionOptions vision;
@@ -90,9 +96,15 @@ class OperatorConsole {
   ~OperatorConsole();
   // GL and ImGui set-up; false with a message.
   bool Init(std::string* error);
-  // Polls input and renders one frame (in headless mode only when a new pair arrived).
-  // Returns true when a new video pair was shown.
+  // Polls input and renders one frame (in headless mode only when the shown pair or its edge
+  // result changed). Returns true when a frame was drawn.
   bool Frame();
+  // How long the render loop may sleep before the next Frame() when nothing wakes it: at most
+  // `idle`, less when a pair's result wait ends sooner.
+  Duration IdleWait(Duration idle) const;
+  // Wakes the render loop when a new pair is decoded or an edge result is published (set on
+  // the receiver by the caller); not owned, outlives the console.
+  void SetWakeSignal(WakeSignal* signal);
   // The last composed frame that showed a new pair (BGR8), for --screenshot.
   const cv::Mat& last_frame() const { return last_frame_; }
   uint64_t rendered_pairs() const { return rendered_pairs_; }
@@ -188,12 +200,15 @@ class OperatorConsole {
   bool show_help_ = false;
   std::string status_line_;
   uint64_t last_pair_ = 0;
+  uint64_t last_version_ = 0;  // FramePicker::shown_version() of the last frame drawn
   uint64_t rendered_pairs_ = 0;
+  uint64_t redrawn_with_result_ = 0;  // frames that added a late edge result to a shown pair
   cv::Mat last_frame_;
   double frame_time_ms_ = 0;
   ShownPairStats shown_;
   LatencyTrace latency_;
-  PairTracer tracer_;  // when the render loop first took each recent pair
+  std::optional<SteadyTime> first_presented_;  // the first new pair's frame (trace warm-up)
+  PairTracer tracer_;                          // when the render loop first took each recent pair
   bool show_latency_ = false;
   size_t sonar_echoes_ = 0;
   size_t sonar_unseen_ = 0;

@@ -39,6 +39,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     hud.sonar_echoes = sonar.echoes;
     hud.sonar_unseen = sonar.unseen;
     hud.overlay_note = MotionOverlayNote(motion_);
+    if (options_.vision_enabled) hud.vision_note = ResultNote(vision_->picker().result_state());
     hud.calibration_proposal = !options_.show_calibration_panel && selfcal_.trustworthy_proposal();
     DrawHudPanel(robot, video_->Stats(), hud, clock_->SteadyNow());
   }

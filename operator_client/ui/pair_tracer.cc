@@ -1,5 +1,7 @@
 #include "operator_client/ui/pair_tracer.h"
 
+#include <algorithm>
+
 namespace mostar::ui {
 
 Time RobotTimeMapper::operator()(SteadyTime t) const {
@@ -26,18 +28,21 @@ PairTimeline PairTracer::Timeline(const ShownPairStamps& pair,
     timeline.Set(LatencyStage::kWritten, robot_side->written);
   }
   timeline.Set(LatencyStage::kReceived, to_robot(pair.received));
+  timeline.Set(LatencyStage::kQueued, to_robot(pair.decode_started));
   timeline.Set(LatencyStage::kDecoded, to_robot(pair.decoded));
   std::optional<Time> picked;
   for (const auto& [sequence, at] : picked_) {
     if (sequence == pair.sequence) picked = to_robot(at);
   }
   if (picked) timeline.Set(LatencyStage::kPicked, *picked);
-  // With edge processing on, the pair is shown in the first frame that has its result.
+  // With edge processing on, the pair waits for its result or for the end of its result wait.
   if (vision_enabled) {
-    timeline.Set(LatencyStage::kVision, to_robot(frame.start));
+    const Time ready = to_robot(frame.ready);
+    timeline.Set(LatencyStage::kVision, picked ? std::max(*picked, ready) : ready);
   } else if (picked) {
     timeline.Set(LatencyStage::kVision, *picked);
   }
+  timeline.Set(LatencyStage::kStarted, to_robot(frame.start));
   timeline.Set(LatencyStage::kDrawn, to_robot(frame.drawn));
   timeline.Set(LatencyStage::kPresented, to_robot(frame.presented));
   return timeline;

@@ -33,15 +33,19 @@ class RobotTimeMapper {
 
 // What the client knows of a shown pair.
 struct ShownPairStamps {
-  uint64_t sequence = 0;  // the receiver's decoded-pair counter
-  Time capture;           // robot clock
-  SteadyTime received;    // both eyes here (this machine)
-  SteadyTime decoded;     // both eyes decoded (this machine)
+  uint64_t sequence = 0;      // the receiver's decoded-pair counter
+  Time capture;               // robot clock
+  SteadyTime received;        // both eyes here (this machine)
+  SteadyTime decode_started;  // the decoder thread took it (this machine)
+  SteadyTime decoded;         // both eyes decoded (this machine)
 };
 
 // The frame that showed the pair, on this machine's monotonic clock.
 struct ShowingFrame {
-  SteadyTime start;      // the frame began drawing (with edge processing on: the result is in)
+  // With edge processing on: when the pair could be shown (its result published, or its result
+  // wait ran out: FramePicker::shown_ready_at).
+  SteadyTime ready;
+  SteadyTime start;      // the frame began drawing
   SteadyTime drawn;      // images, overlay and panels drawn
   SteadyTime presented;  // swapped and finished
 };
@@ -55,7 +59,7 @@ class PairTracer {
 
   // The timeline of `pair` shown by `frame`. `robot_side`: the robot's encode and write stamps
   // when known. With edge processing off the vision stage takes no time (it ends when the pair
-  // was picked).
+  // was picked); with it on, it ends at `frame.ready`, never before the pick.
   PairTimeline Timeline(const ShownPairStamps& pair, const std::optional<FrameTiming>& robot_side,
                         const ShowingFrame& frame, bool vision_enabled,
                         const RobotTimeMapper& to_robot) const;

@@ -36,18 +36,21 @@ TEST(PairTracerTest, StampsEveryStageOnTheRobotClock) {
   PairTracer tracer;
   tracer.Picked(7, kSteadyNow - milliseconds(20));
   ShownPairStamps pair{7, kWallNow + milliseconds(50), kSteadyNow - milliseconds(30),
-                       kSteadyNow - milliseconds(25)};
+                       kSteadyNow - milliseconds(28), kSteadyNow - milliseconds(25)};
   const FrameTiming robot_side{pair.capture, pair.capture + milliseconds(3),
                                pair.capture + milliseconds(4)};
-  const ShowingFrame frame{kSteadyNow - milliseconds(15), kSteadyNow - milliseconds(5), kSteadyNow};
+  const ShowingFrame frame{kSteadyNow - milliseconds(17), kSteadyNow - milliseconds(15),
+                           kSteadyNow - milliseconds(5), kSteadyNow};
   const PairTimeline t = tracer.Timeline(pair, robot_side, frame, true, to_robot);
   EXPECT_EQ(t.capture, pair.capture);
   EXPECT_EQ(At(t, LatencyStage::kEncoded), pair.capture + milliseconds(3));
   EXPECT_EQ(At(t, LatencyStage::kWritten), pair.capture + milliseconds(4));
   EXPECT_EQ(At(t, LatencyStage::kReceived), kWallNow + milliseconds(70));
+  EXPECT_EQ(At(t, LatencyStage::kQueued), kWallNow + milliseconds(72));
   EXPECT_EQ(At(t, LatencyStage::kDecoded), kWallNow + milliseconds(75));
   EXPECT_EQ(At(t, LatencyStage::kPicked), kWallNow + milliseconds(80));
-  EXPECT_EQ(At(t, LatencyStage::kVision), kWallNow + milliseconds(85));  // the frame's start
+  EXPECT_EQ(At(t, LatencyStage::kVision), kWallNow + milliseconds(83));  // the result was ready
+  EXPECT_EQ(At(t, LatencyStage::kStarted), kWallNow + milliseconds(85));
   EXPECT_EQ(At(t, LatencyStage::kDrawn), kWallNow + milliseconds(95));
   EXPECT_EQ(At(t, LatencyStage::kPresented), kWallNow + milliseconds(100));
 }
@@ -57,13 +60,27 @@ TEST(PairTracerTest, WithoutEdgeProcessingVisionTakesNoTime) {
   PairTracer tracer;
   tracer.Picked(3, kSteadyNow - milliseconds(20));
   const ShownPairStamps pair{3, kWallNow - milliseconds(60), kSteadyNow - milliseconds(30),
-                             kSteadyNow - milliseconds(25)};
-  const ShowingFrame frame{kSteadyNow - milliseconds(15), kSteadyNow - milliseconds(5), kSteadyNow};
+                             kSteadyNow - milliseconds(28), kSteadyNow - milliseconds(25)};
+  const ShowingFrame frame{kSteadyNow - milliseconds(15), kSteadyNow - milliseconds(15),
+                           kSteadyNow - milliseconds(5), kSteadyNow};
   const PairTimeline t = tracer.Timeline(pair, std::nullopt, frame, false, to_robot);
   EXPECT_EQ(At(t, LatencyStage::kVision), At(t, LatencyStage::kPicked));
   // The robot's stages are unknown: left unset, reported as unexplained by the trace.
   EXPECT_FALSE(t.at[static_cast<int>(LatencyStage::kEncoded)].has_value());
   EXPECT_FALSE(t.at[static_cast<int>(LatencyStage::kWritten)].has_value());
+}
+
+TEST(PairTracerTest, VisionNeverEndsBeforeThePick) {
+  const RobotTimeMapper to_robot(kWallNow, kSteadyNow, {});
+  PairTracer tracer;
+  tracer.Picked(4, kSteadyNow - milliseconds(20));
+  const ShownPairStamps pair{4, kWallNow - milliseconds(60), kSteadyNow - milliseconds(30),
+                             kSteadyNow - milliseconds(28), kSteadyNow - milliseconds(25)};
+  // Ready before the loop took it (a result published for a pair the loop had not seen).
+  const ShowingFrame frame{kSteadyNow - milliseconds(24), kSteadyNow - milliseconds(15),
+                           kSteadyNow - milliseconds(5), kSteadyNow};
+  const PairTimeline t = tracer.Timeline(pair, std::nullopt, frame, true, to_robot);
+  EXPECT_EQ(At(t, LatencyStage::kVision), At(t, LatencyStage::kPicked));
 }
 
 TEST(PairTracerTest, OnlyTheFirstPickCountsAndOldPairsAreForgotten) {
@@ -72,8 +89,9 @@ TEST(PairTracerTest, OnlyTheFirstPickCountsAndOldPairsAreForgotten) {
   tracer.Picked(1, kSteadyNow - milliseconds(40));
   tracer.Picked(1, kSteadyNow - milliseconds(10));  // shown again in a later frame
   const ShownPairStamps pair{1, kWallNow - milliseconds(60), kSteadyNow - milliseconds(50),
-                             kSteadyNow - milliseconds(45)};
-  const ShowingFrame frame{kSteadyNow - milliseconds(8), kSteadyNow - milliseconds(4), kSteadyNow};
+                             kSteadyNow - milliseconds(48), kSteadyNow - milliseconds(45)};
+  const ShowingFrame frame{kSteadyNow - milliseconds(9), kSteadyNow - milliseconds(8),
+                           kSteadyNow - milliseconds(4), kSteadyNow};
   EXPECT_EQ(At(tracer.Timeline(pair, std::nullopt, frame, true, to_robot), LatencyStage::kPicked),
             kWallNow - milliseconds(40));
   for (uint64_t s = 2; s < 2 + PairTracer::kRemembered; ++s) tracer.Picked(s, kSteadyNow);

@@ -30,7 +30,11 @@ std::string FormatRunReport(const ConsoleRunTotals& c, const client::ReceiverSta
       << " video_frames=" << v.video_frames << " video_gaps=" << v.video_gaps
       << " video_errors=" << v.video_errors << " video_skipped=" << v.video_skipped
       << " video_queue_dropped=" << v.video_queue_dropped
-      << " keyframe_requests=" << v.keyframe_requests << "\n";
+      << " keyframe_requests=" << v.keyframe_requests << " pairs_dropped=" << v.pairs_dropped
+      << " late_pairs=" << v.late_dropped << " vision_in_time=" << c.vision_in_time
+      << " vision_without_result=" << c.vision_without_result
+      << " vision_added_late=" << c.vision_added_late << " vision_missed=" << c.vision_missed
+      << "\n";
   return out.str();
 }
 

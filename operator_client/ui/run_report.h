@@ -27,6 +27,12 @@ struct ConsoleRunTotals {
   uint64_t overlays_moved = 0;
   uint64_t overlays_faded = 0;
   std::vector<LatencyRow> latency;  // one p50/p95 pair of keys per row
+  // Edge processing: pairs shown with their result, shown when their result wait ran out (and
+  // of those, the result added later), and results that came when a newer pair was on screen.
+  uint64_t vision_in_time = 0;
+  uint64_t vision_without_result = 0;
+  uint64_t vision_added_late = 0;
+  uint64_t vision_missed = 0;
 };
 
 // The console's report: one line "report: key=value ..." ending in a newline, which the tests

@@ -51,11 +51,14 @@ TEST(RunReportTest, EveryCountHasItsKey) {
   console.display_age_ms_p95 = 120.5;
   console.sonar_unseen = 3;
   console.overlays_faded = 4;
+  console.vision_without_result = 6;
+  console.vision_added_late = 5;
   console.latency = {{"decoded", 4.5, 8.25, 10}, {"total", 90, 140, 10}};
   client::ReceiverStats video;
   video.broken_images = 5;
   video.video_gaps = 6;
   video.keyframe_requests = 7;
+  video.pairs_dropped = 8;
   auto keys = Parse(FormatRunReport(console, video));
   EXPECT_EQ(keys["rendered_frames"], "11");
   EXPECT_EQ(keys["scripted_rearms"], "2");
@@ -64,11 +67,14 @@ TEST(RunReportTest, EveryCountHasItsKey) {
   EXPECT_EQ(keys["display_age_ms_p95"], "120.5");
   EXPECT_EQ(keys["sonar_unseen"], "3");
   EXPECT_EQ(keys["overlays_faded"], "4");
+  EXPECT_EQ(keys["vision_without_result"], "6");
+  EXPECT_EQ(keys["vision_added_late"], "5");
   EXPECT_EQ(keys["latency_decoded_ms_p50"], "4.5");
   EXPECT_EQ(keys["latency_decoded_ms_p95"], "8.25");
   EXPECT_EQ(keys["latency_total_ms_p95"], "140");
   EXPECT_EQ(keys["broken_images"], "5");
   EXPECT_EQ(keys["video_gaps"], "6");
+  EXPECT_EQ(keys["pairs_dropped"], "8");
   EXPECT_EQ(keys["keyframe_requests"], "7");
   EXPECT_EQ(keys.count("captured_stamp_ns"), 0u);  // only when a pair was captured
 }

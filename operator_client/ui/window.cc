@@ -3,6 +3,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
+
 #include "common/log/log.h"
 #include "operator_client/render/gl.h"
 
@@ -50,7 +52,12 @@ std::unique_ptr<Window> Window::Create(const WindowOptions& options, std::string
     return nullptr;
   }
   glfwMakeContextCurrent(window->window_);
-  glfwSwapInterval(options.visible ? 1 : 0);
+  // A visible window never tears while frames are in time: adaptive vertical sync where the
+  // driver offers it (a late frame is shown at once), else plain vertical sync.
+  const bool adaptive = glfwExtensionSupported("GLX_EXT_swap_control_tear") == GLFW_TRUE ||
+                        glfwExtensionSupported("WGL_EXT_swap_control_tear") == GLFW_TRUE;
+  window->swap_interval_ = !options.visible ? 0 : adaptive ? -1 : 1;
+  glfwSwapInterval(window->swap_interval_);
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
   window->renderer_ =
@@ -67,6 +74,11 @@ bool Window::ShouldClose() const { return glfwWindowShouldClose(window_); }
 void Window::RequestClose() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 void Window::SwapBuffers() { glfwSwapBuffers(window_); }
 void Window::PollEvents() { glfwPollEvents(); }
+void Window::WaitEvents(Duration timeout) {
+  glfwWaitEventsTimeout(std::max(ToSeconds(timeout), 0.0));
+}
+void Window::WakeUp() { glfwPostEmptyEvent(); }
+bool Window::GamepadPresent() { return glfwJoystickIsGamepad(GLFW_JOYSTICK_1) == GLFW_TRUE; }
 void Window::FramebufferSize(int* width, int* height) const {
   glfwGetFramebufferSize(window_, width, height);
 }

@@ -5,6 +5,8 @@
 #include <memory>
 #include <string>
 
+#include "common/time/time.h"
+
 struct GLFWwindow;
 
 namespace mostar::ui {
@@ -31,6 +33,15 @@ class Window {
   void RequestClose();
   void SwapBuffers();
   static void PollEvents();
+  // Waits for an input event, WakeUp() or `timeout`, then handles the events that came.
+  static void WaitEvents(Duration timeout);
+  // Ends a WaitEvents() at once; callable from any thread.
+  static void WakeUp();
+  // A gamepad is connected (it is polled: its sticks send no events).
+  static bool GamepadPresent();
+  // 1: swaps wait for the display's vertical blank; -1: adaptive (they wait unless the frame
+  // is late, then tear once rather than wait a whole refresh); 0: never wait (hidden window).
+  int swap_interval() const { return swap_interval_; }
   void FramebufferSize(int* width, int* height) const;
   void SetSize(int width, int height);
   bool quad_buffer() const { return quad_buffer_; }
@@ -41,6 +52,7 @@ class Window {
   Window() = default;
   GLFWwindow* window_ = nullptr;
   bool quad_buffer_ = false;
+  int swap_interval_ = 0;
   std::string renderer_;
 };
 

@@ -40,6 +40,11 @@ void StereoReceiver::SetDecodeTarget(const DecodeTarget& target) {
   target_ = target;
 }
 
+void StereoReceiver::SetWakeSignal(WakeSignal* signal) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  wake_ = signal;
+}
+
 void StereoReceiver::SetClockOffset(const timesync::ClockOffsetEstimate& robot_minus_local) {
   std::lock_guard<std::mutex> lock(mutex_);
   gate_.SetClockOffset(robot_minus_local);
@@ -185,10 +190,14 @@ std::optional<DecodedStereoPair> StereoReceiver::DecodeVideo(const StereoVideoFr
   DecodedStereoPair decoded;
   std::string left_error;
   std::string right_error;
+  h264::DecodeStatus right = h264::DecodeStatus::kError;
+  right_eye_.Run([&] {
+    right = right_video_decoder_->Decode(frame.right.data(), frame.right.size(), frame.sequence,
+                                         &decoded.right, &right_error);
+  });
   const h264::DecodeStatus left = left_video_decoder_->Decode(
       frame.left.data(), frame.left.size(), frame.sequence, &decoded.left, &left_error);
-  const h264::DecodeStatus right = right_video_decoder_->Decode(
-      frame.right.data(), frame.right.size(), frame.sequence, &decoded.right, &right_error);
+  right_eye_.Wait();
   const uint64_t gaps =
       left_video_decoder_->counters().gaps + right_video_decoder_->counters().gaps - gaps_before;
   const uint64_t errors = left_video_decoder_->counters().errors +
@@ -222,7 +231,8 @@ std::optional<DecodedStereoPair> StereoReceiver::DecodeVideo(const StereoVideoFr
 }
 
 void StereoReceiver::DecodeLoop() {
-  JpegDecoder decoder;
+  JpegDecoder decoder;        // the left eye, on this thread
+  JpegDecoder right_decoder;  // the right eye, on right_eye_
   std::unique_lock<std::mutex> lock(mutex_);
   while (true) {
     cv_.wait(lock, [this] { return stop_ || to_decode_.has_value() || !video_queue_.empty(); });
@@ -238,6 +248,7 @@ void StereoReceiver::DecodeLoop() {
         reason = "overrun";
       }
       lock.unlock();
+      const SteadyTime decode_started = clock_->SteadyNow();
       std::optional<DecodedStereoPair> decoded = DecodeVideo(frame, &reason);
       const SteadyTime now = clock_->SteadyNow();
       const bool waiting = left_video_decoder_ && right_video_decoder_ &&
@@ -253,10 +264,12 @@ void StereoReceiver::DecodeLoop() {
       stats_.waiting_for_keyframe = waiting;
       if (decoded) {
         decoded->received = received;
+        decoded->decode_started = decode_started;
         decoded->decoded = now;
         decoded->sequence = ++stats_.pairs_decoded;
         pair_rate_.Tick(now);
         latest_ = std::move(*decoded);
+        if (wake_) wake_->Notify();
       } else {
         ++stats_.video_skipped;
       }
@@ -292,6 +305,7 @@ void StereoReceiver::DecodeLoop() {
     DecodedStereoPair decoded;
     decoded.stamp = pair.left.stamp;
     decoded.received = received;
+    decoded.decode_started = clock_->SteadyNow();
     decoded.compressed_bytes = pair.left.data.size() + pair.right.data.size();
     // Push() read both headers: these reads succeed unless the data is broken.
     JpegHeader header;
@@ -303,13 +317,22 @@ void StereoReceiver::DecodeLoop() {
                                                          target.width_px, target.height_px);
     }
     int decodes[2] = {0, 0};
-    std::string why;
-    for (int e = 0; e < 2 && !broken; ++e) {
+    std::string why[2];
+    bool eye_broken[2] = {false, false};
+    // The right eye on the helper thread while this one decodes the left: both at once.
+    const auto decode_eye = [&](int e, JpegDecoder* eye_decoder) {
       const CompressedImage& image = e == 0 ? pair.left : pair.right;
-      if (!(e == 0 ? target.left : target.right) || image.data.empty()) continue;
+      if (!(e == 0 ? target.left : target.right) || image.data.empty()) return;
       ++decodes[e];
-      broken = !decoder.Decode(image.data.data(), image.data.size(), decoded.scale_denominator,
-                               e == 0 ? &decoded.left : &decoded.right, &why);
+      eye_broken[e] =
+          !eye_decoder->Decode(image.data.data(), image.data.size(), decoded.scale_denominator,
+                               e == 0 ? &decoded.left : &decoded.right, &why[e]);
+    };
+    if (!broken) {
+      right_eye_.Run([&] { decode_eye(1, &right_decoder); });
+      decode_eye(0, &decoder);
+      right_eye_.Wait();
+      broken = eye_broken[0] || eye_broken[1];
     }
     decoded.decoded = clock_->SteadyNow();
     lock.lock();
@@ -320,13 +343,15 @@ void StereoReceiver::DecodeLoop() {
     }
     if (broken) {
       ++stats_.broken_images;
-      MOSTAR_LOG_EVERY_SEC(WARNING, 5) << "undecodable JPEG (" << why << ") in the pair stamped "
-                                       << ToIso8601(pair.left.stamp) << ": pair dropped";
+      MOSTAR_LOG_EVERY_SEC(WARNING, 5)
+          << "undecodable JPEG (" << (eye_broken[0] ? why[0] : why[1]) << ") in the pair stamped "
+          << ToIso8601(pair.left.stamp) << ": pair dropped";
       continue;
     }
     decoded.sequence = ++stats_.pairs_decoded;
     pair_rate_.Tick(clock_->SteadyNow());
     latest_ = std::move(decoded);
+    if (wake_) wake_->Notify();
   }
 }
 

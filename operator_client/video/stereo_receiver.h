@@ -12,9 +12,10 @@
 // 1/8) that still covers the target size, the same scale for both eyes.
 //
 // H.264 (PushVideo): every frame of the two streams is decoded, in order (they are predictive),
-// both eyes whatever the DecodeTarget, at full size. A gap in the AU numbers, an undecodable AU
-// or a picture with errors is never shown: Latest() keeps the last good pair while the
-// receiver waits for an IDR (ReceiverStats::waiting_for_keyframe: the picture is stale), and
+// both eyes whatever the DecodeTarget, at full size. In both formats the two eyes of a pair are
+// decoded at the same time, the right one on a helper thread. A gap in the AU numbers, an
+// undecodable AU or a picture with errors is never shown: Latest() keeps the last good pair while
+// the receiver waits for an IDR (ReceiverStats::waiting_for_keyframe: the picture is stale), and
 // asks the robot for one through the keyframe request callback, again every 200 ms until one
 // comes (libwebrtc's kMaxWaitForKeyFrame). Frames the decoder cannot keep up with (more than
 // kMaxQueuedVideoFrames waiting) are dropped together, counted, and an IDR is asked for.
@@ -34,6 +35,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/sync/helper_thread.h"
+#include "common/sync/wake_signal.h"
 #include "common/time/rate_meter.h"
 #include "common/time/time.h"
 #include "common/timesync/clock_offset_estimator.h"
@@ -48,12 +51,13 @@ class Decoder;
 namespace mostar::client {
 
 struct DecodedStereoPair {
-  uint64_t sequence = 0;  // decoded pair counter of this receiver
-  Time stamp;             // capture stamp shared by both eyes
-  SteadyTime received;    // when the pair became complete here (monotonic)
-  SteadyTime decoded;     // when both eyes were decoded (monotonic)
-  cv::Mat left;           // BGR8; empty when not asked for (DecodeTarget)
-  cv::Mat right;          // BGR8; empty when not asked for, or when the robot sends one eye
+  uint64_t sequence = 0;      // decoded pair counter of this receiver
+  Time stamp;                 // capture stamp shared by both eyes
+  SteadyTime received;        // when the pair became complete here (monotonic)
+  SteadyTime decode_started;  // when the decoder thread took it (monotonic): queued before
+  SteadyTime decoded;         // when both eyes were decoded (monotonic)
+  cv::Mat left;               // BGR8; empty when not asked for (DecodeTarget)
+  cv::Mat right;              // BGR8; empty when not asked for, or when the robot sends one eye
   // The images are decoded at 1/scale_denominator (1, 2, 4 or 8) of the size sent, which is
   // source_width_px x source_height_px (the left eye's; both eyes have the same size). An
   // image pixel u maps to a sent pixel (u + 0.5) * scale - 0.5 (libjpeg's scaled size is
@@ -142,6 +146,9 @@ class StereoReceiver {
   void SetDecodeTarget(const DecodeTarget& target);
   // The robot's clock minus this machine's, for judging stamps from the future.
   void SetClockOffset(const timesync::ClockOffsetEstimate& robot_minus_local);
+  // Notified each time a new decoded pair is there (Latest() changed), on the decoder thread:
+  // the render loop sleeps on it. Not owned; must outlive the receiver or be reset to nullptr.
+  void SetWakeSignal(WakeSignal* signal);
   // The newest decoded pair, if any (shares pixel memory; treat as read-only).
   std::optional<DecodedStereoPair> Latest() const;
   ReceiverStats Stats() const;
@@ -172,6 +179,7 @@ class StereoReceiver {
   FeedbackFn feedback_;
   ArrivalReport arrivals_{kFeedbackPeriod};  // mutex_
   std::optional<DecodedStereoPair> latest_;
+  WakeSignal* wake_ = nullptr;  // mutex_
   ReceiverStats stats_;
   RateMeter pair_rate_;
   std::map<SteadyTime, size_t> bytes_window_;
@@ -180,6 +188,7 @@ class StereoReceiver {
   std::unique_ptr<h264::Decoder> right_video_decoder_;
   uint64_t last_video_sequence_ = 0;             // last AU decoded into a picture
   std::optional<SteadyTime> last_keyframe_ask_;  // when an IDR was last asked for
+  HelperThread right_eye_;                       // decodes the right eye beside the left
   std::thread thread_;
 };
 

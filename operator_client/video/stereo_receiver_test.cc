@@ -43,6 +43,33 @@ TEST(StereoReceiverTest, PairsEyesByStampAndDecodes) {
   EXPECT_GT(pair.right.at<cv::Vec3b>(10, 10)[0], 180);
 }
 
+TEST(StereoReceiverTest, EachDecodedPairWakesTheRenderLoopAndCarriesItsDecodeStart) {
+  StereoReceiver receiver;
+  WakeSignal wake;
+  receiver.SetWakeSignal(&wake);
+  const Time t = FromUnixNanos(1'000'000'000);
+  receiver.Push(Eye::kLeft, Jpeg(t, 40));
+  receiver.Push(Eye::kRight, Jpeg(t, 200));
+  // A bound far beyond one decode: the wait ends by the receiver's notification.
+  ASSERT_TRUE(wake.WaitFor(std::chrono::seconds(30)));
+  const std::optional<DecodedStereoPair> pair = receiver.Latest();
+  ASSERT_TRUE(pair.has_value());
+  EXPECT_LE(pair->received, pair->decode_started);
+  EXPECT_LE(pair->decode_started, pair->decoded);
+  // Both eyes decoded (one on the helper thread), each with its own picture.
+  EXPECT_LT(pair->left.at<cv::Vec3b>(10, 10)[0], 60);
+  EXPECT_GT(pair->right.at<cv::Vec3b>(10, 10)[0], 180);
+  EXPECT_EQ(wake.notifications(), 1u);
+  // A broken pair wakes nobody.
+  CompressedImage broken = Jpeg(FromUnixNanos(2'000'000'000), 10);
+  broken.data.resize(broken.data.size() / 2);
+  receiver.Push(Eye::kLeft, Jpeg(FromUnixNanos(2'000'000'000), 10));
+  receiver.Push(Eye::kRight, broken);
+  ASSERT_TRUE(WaitFor([&] { return receiver.Stats().broken_images == 1; }));
+  EXPECT_EQ(wake.notifications(), 1u);
+  receiver.SetWakeSignal(nullptr);
+}
+
 TEST(StereoReceiverTest, BrokenJpegIsCountedAndLaterPairsStillDecode) {
   StereoReceiver receiver;
   CompressedImage broken = Jpeg(FromUnixNanos(1), 10);

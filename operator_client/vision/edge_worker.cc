@@ -7,13 +7,13 @@
 
 namespace mostar::vision {
 
-EdgeWorker::EdgeWorker(const VisionOptions& options)
-    : custom_process_(false), pipeline_(std::make_shared<VisionPipeline>(options)) {
+EdgeWorker::EdgeWorker(const VisionOptions& options, const Clock* clock)
+    : custom_process_(false), clock_(clock), pipeline_(std::make_shared<VisionPipeline>(options)) {
   thread_ = std::thread(&EdgeWorker::Run, this);
 }
 
-EdgeWorker::EdgeWorker(ProcessFunction process)
-    : process_(std::move(process)), custom_process_(true) {
+EdgeWorker::EdgeWorker(ProcessFunction process, const Clock* clock)
+    : process_(std::move(process)), custom_process_(true), clock_(clock) {
   MOSTAR_CHECK(process_);
   thread_ = std::thread(&EdgeWorker::Run, this);
 }
@@ -40,6 +40,11 @@ bool EdgeWorker::SetOptions(const VisionOptions& options, std::string* error) {
 VisionOptions EdgeWorker::options() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return pipeline_ != nullptr ? pipeline_->options() : VisionOptions{};
+}
+
+void EdgeWorker::SetWakeSignal(WakeSignal* signal) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  wake_ = signal;
 }
 
 std::shared_ptr<const VisionResult> EdgeWorker::LatestResult() const {
@@ -81,14 +86,18 @@ void EdgeWorker::Run() {
       MOSTAR_LOG_EVERY_SEC(WARNING, 5)
           << "edge processing of frame pair " << input.sequence << " failed: " << result->error;
     }
+    WakeSignal* wake = nullptr;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++stats_.processed;
       if (!result->ok) ++stats_.failed;
       stats_.last_processing_time = result->processing_time;
+      result->published = clock_->SteadyNow();
       latest_ = std::move(result);
+      wake = wake_;
     }
     result_ready_.notify_all();
+    if (wake != nullptr) wake->Notify();
   }
 }
 

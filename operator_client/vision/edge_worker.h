@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "common/sync/latest_value_slot.h"
+#include "common/sync/wake_signal.h"
 #include "common/time/time.h"
 #include "operator_client/vision/vision_pipeline.h"
 
@@ -38,10 +39,11 @@ class EdgeWorker {
     Duration last_processing_time{0};
   };
 
-  // `options` must be valid (asserted; check with IsValid() or use SetOptions()).
-  explicit EdgeWorker(const VisionOptions& options);
+  // `options` must be valid (asserted; check with IsValid() or use SetOptions()). `clock`
+  // stamps VisionResult::published (not owned).
+  explicit EdgeWorker(const VisionOptions& options, const Clock* clock = &SystemClock::Instance());
   // Runs `process` instead of the pipeline (tests, instrumentation). SetOptions() is refused.
-  explicit EdgeWorker(ProcessFunction process);
+  explicit EdgeWorker(ProcessFunction process, const Clock* clock = &SystemClock::Instance());
   ~EdgeWorker();
 
   EdgeWorker(const EdgeWorker&) = delete;
@@ -54,6 +56,10 @@ class EdgeWorker {
   // options are refused with `error` and the current ones kept.
   bool SetOptions(const VisionOptions& options, std::string* error);
   VisionOptions options() const;
+
+  // Notified on the worker thread after each result is published (the render loop sleeps on
+  // it). Not owned; must outlive the worker or be reset to nullptr.
+  void SetWakeSignal(WakeSignal* signal);
 
   // The newest published result, or null before the first one. Cheap; never blocks on
   // processing.
@@ -70,11 +76,13 @@ class EdgeWorker {
 
   ProcessFunction process_;
   const bool custom_process_;
+  const Clock* clock_;
   LatestValueSlot<VisionInput> pending_;  // closed by the destructor
   mutable std::mutex mutex_;
   mutable std::condition_variable result_ready_;
   std::shared_ptr<VisionPipeline> pipeline_;    // guarded by mutex_; used by the worker only
   std::shared_ptr<const VisionResult> latest_;  // guarded by mutex_
+  WakeSignal* wake_ = nullptr;                  // guarded by mutex_
   Stats stats_;         // guarded by mutex_ (submitted and replaced come from pending_)
   std::thread thread_;  // last: starts after the rest exists
 };

@@ -92,6 +92,7 @@ struct VisionResult {
   LaserScan scan;               // = VisionInput::scan: the beams the decisions refer to
   ScanPlacement placement;      // = VisionInput::placement
   Duration processing_time{0};  // wall time of Process()
+  SteadyTime published;         // when EdgeWorker published it (its clock); unset by Process()
 };
 
 class VisionPipeline {

@@ -144,8 +144,10 @@ camera::GrabResult ReplayStereoCamera::Grab(Duration timeout, camera::StereoImag
       ++pairs_in_pass_;
       ++pairs_skipped_late_;
     }
+    cv::Mat right;
+    right_eye_.Run([&] { right = Decode(&right_decoder_, pair.pair.right); });
     cv::Mat left = Decode(&decoder_, pair.pair.left);
-    cv::Mat right = Decode(&decoder_, pair.pair.right);
+    right_eye_.Wait();
     if (left.empty() || right.empty()) {
       broken_jpegs_ += static_cast<uint64_t>(left.empty()) + static_cast<uint64_t>(right.empty());
       MOSTAR_LOG_EVERY_SEC(WARNING, 5)

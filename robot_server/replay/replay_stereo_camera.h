@@ -6,10 +6,11 @@
 // - Pairs: left and right eyes paired by capture stamp (record::ReplayFrameSource); stamps are
 //   the timeline's (ReplayTimeline::Restamp), the sequence counts pairs delivered and skipped,
 //   so a gap is a dropped pair.
-// - Decoding: only pairs that are delivered. When several pairs are overdue (the capture
-//   thread was late, or Open() resumes mid-recording), only the newest is decoded; the others
-//   are counted as pairs_skipped_late. A JPEG that does not decode (or eyes of different sizes)
-//   is counted in broken_jpegs, logged, and its pair skipped; nothing crashes.
+// - Decoding: only pairs that are delivered, both eyes at once (the right one on a helper
+//   thread, as a camera reads its two sensors out together). When several pairs are overdue
+//   (the capture thread was late, or Open() resumes mid-recording), only the newest is
+//   decoded; the others are counted as pairs_skipped_late. A JPEG that does not decode (or eyes of
+//   different sizes) is counted in broken_jpegs, logged, and its pair skipped; nothing crashes.
 // - End: kEndOfStream "end of recording <file> after N pairs", or with the timeline's loop the
 //   first pair again in the next pass. Damage in the file ends a pass early (logged).
 // - Open() after Close() resumes at the timeline's current position, not at the beginning.
@@ -26,6 +27,7 @@
 #include "common/jpeg/jpeg_decoder.h"
 #include "common/record/recording_reader.h"
 #include "common/record/replay_sources.h"
+#include "common/sync/helper_thread.h"
 #include "robot_server/camera/stereo_camera.h"
 #include "robot_server/replay/replay_timeline.h"
 
@@ -63,7 +65,9 @@ class ReplayStereoCamera final : public camera::StereoCamera {
   std::unique_ptr<record::ReplayFrameSource> source_;  // null while closed
   record::RecordingReader* reader_ = nullptr;          // read by source_
   std::optional<record::TimedStereoPair> pending_;
-  JpegDecoder decoder_;  // every libjpeg warning is a broken JPEG
+  JpegDecoder decoder_;        // every libjpeg warning is a broken JPEG; the left eye
+  JpegDecoder right_decoder_;  // the right eye, on right_eye_ while decoder_ does the left
+  HelperThread right_eye_;
   uint64_t pass_ = 0;
   uint64_t pairs_in_pass_ = 0;    // taken from the source in this pass
   bool pass_from_begin_ = false;  // this pass started at the beginning of the recording

@@ -1,55 +1,148 @@
 #!/usr/bin/env bash
-# Operator-side latency on loopback: robot_server (simulated robot at 640x480 or 1280x960, or the
-# test pattern) and a headless operator_client under Xvfb/llvmpipe. Prints two tables: the delivered pair rate,
-# capture-to-display age and render time (p50/p95); then the capture-to-screen latency trace,
-# stage by stage (p50 / p95 ms of each stage since the one before, the total capture to
-# presented, and what no stamp explains), one column per run.
+# Operator-side latency on loopback: robot_server and a headless operator_client under
+# Xvfb/llvmpipe. Prints two tables: per run configuration the delivered pair rate, the
+# capture-to-display age, the pairs dropped, the edge results' timing and the load average; then
+# the capture-to-screen latency trace, stage by stage (p95 ms of each stage since the one before,
+# the total capture to presented), one column per configuration. With RUNS > 1 every cell is
+# the median of the runs' values with their range.
 #
 #   tests/bench/client_latency_bench.sh [BUILD_DIR] [SECONDS]
+#
+# Sources (SOURCES, space separated):
+#   camera       a camera-like source: 20 s of the simulator at 640x480 with a pilot driving a
+#                curve, recorded before the runs; each run replays it in a loop through the live
+#                camera pipeline (--replay-sensors: recorded JPEGs decoded like a camera's
+#                readout, then compressed as captured), so no scene is rendered during the run
+#   camera_1280  the same at the cameras' native 1280x960, shown in the 640x480 window
+#   test_pattern the server's test pattern (a control row: the cheapest source)
+#   sim, sim_1280  the simulator rendering the scene during the run (its CPU renderer shares
+#                the 2 cores: `encoded` holds the rendering)
+# DISPLAYS: display modes (mono-left, anaglyph-color, ...), and "probe": no console but a
+# net_probe (tests/network), whose age is capture to received: what the robot side and the
+# transport cost on this machine without the console's CPU. VISION: "on off" (edge processing;
+# a probe row runs once, as "-").
+# RUNS: runs per configuration (the client's trace leaves out its first 2 s of pairs: the
+# warm-up). CLIENT: another operator_client binary to time instead of BUILD_DIR's (A/B against
+# an older build).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+src=$PWD
 BUILD_DIR=${1:-build}
-SECONDS_RUN=${2:-15}
+SECONDS_RUN=${2:-20}
+SOURCES=${SOURCES:-camera camera_1280 test_pattern}
+DISPLAYS=${DISPLAYS:-mono-left anaglyph-color}
+VISION=${VISION:-on off}
+RUNS=${RUNS:-1}
+CLIENT=${CLIENT:-$BUILD_DIR/operator_client/operator_client}
+SERVER=$BUILD_DIR/robot_server/robot_server
 DOMAIN=$((150 + $$ % 50))
-STAGES=(encoded written received decoded picked vision drawn presented total unexplained)
-declare -a reports=() labels=()
-printf '| source | display | pairs/s | age p50 ms | age p95 ms | render p50 ms | render p95 ms |\n'
-printf '|---|---|---|---|---|---|---|\n'
-# Rows: source (test_pattern, sim at 640x480, sim_1280: the simulator at the cameras' native
-# 1280x960, shown in the client's 640x480 window, so decoded at 1/2) x display mode.
-for source in test_pattern sim sim_1280; do
-  for display in mono-left anaglyph-color; do
-    args=(--domain "$DOMAIN" --config deploy/config/server_sim.pbtxt)
-    [ "$source" = test_pattern ] && args+=(--source test_pattern)
-    [ "$source" = sim_1280 ] && args=(--domain "$DOMAIN" --config deploy/config/server_sim_1280.pbtxt)
-    "$BUILD_DIR/robot_server/robot_server" "${args[@]}" --log-level warning &
-    server=$!
-    sleep 2
+STAGES=(encoded written received queued decoded picked vision started drawn presented total)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# Client configurations with edge processing on and off (absolute calibration path).
+sed -e 's|^calibration_profile: .*||' deploy/config/client_sim.pbtxt > "$work/client_on.pbtxt"
+sed -e 's|^vision_enabled: true|vision_enabled: false|' "$work/client_on.pbtxt" \
+  > "$work/client_off.pbtxt"
+calibration=(--calibration "$src/deploy/config/calibration_sim.pbtxt")
+
+# Records the camera-like source for server config $1 into $2.
+record_source() {
+  local config=$1 out=$2 domain=$((DOMAIN + 1))
+  sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" "$config" > "$work/record.pbtxt"
+  "$SERVER" --domain "$domain" --config "$work/record.pbtxt" --record "$out" --duration 24 \
+    --log-level warning > "$work/record_server.log" 2>&1 &
+  local server=$!
+  xvfb-run -a "$CLIENT" --headless --domain "$domain" --id operator --role pilot --duration 22 \
+    --drive 0.25,0.35 --no-hud "${calibration[@]}" --log-level warning \
+    > "$work/record_client.log" 2>&1 || true
+  wait "$server" || true
+  [ -s "$out" ] || { echo "bench: recording $config failed" >&2; cat "$work/record_server.log" >&2; exit 1; }
+}
+
+server_args() {  # the robot_server arguments of source $1
+  case $1 in
+    camera) echo "--config deploy/config/server_sim.pbtxt --replay-sensors $work/camera_640.mrec --loop" ;;
+    camera_1280) echo "--config deploy/config/server_sim_1280.pbtxt --replay-sensors $work/camera_1280.mrec --loop" ;;
+    test_pattern) echo "--config deploy/config/server_sim.pbtxt --source test_pattern" ;;
+    sim) echo "--config deploy/config/server_sim.pbtxt" ;;
+    sim_1280) echo "--config deploy/config/server_sim_1280.pbtxt" ;;
+    *) echo "bench: unknown source $1" >&2; exit 2 ;;
+  esac
+}
+
+for source in $SOURCES; do
+  [ "$source" = camera ] && record_source deploy/config/server_sim.pbtxt "$work/camera_640.mrec"
+  [ "$source" = camera_1280 ] && record_source deploy/config/server_sim_1280.pbtxt "$work/camera_1280.mrec"
+done
+
+# One run: prints the client's report line with the load average before the run appended.
+run_once() {
+  local source=$1 display=$2 vision=$3 load server report
+  read -r load _ < /proc/loadavg
+  # shellcheck disable=SC2046
+  "$SERVER" --domain "$DOMAIN" $(server_args "$source") --log-level warning > "$work/server.log" 2>&1 &
+  server=$!
+  sleep 2
+  if [ "$display" = probe ]; then
+    # The probe's ages as the console's keys (the console's stages stay empty).
+    report=$("$BUILD_DIR/tests/network/net_probe" --domain "$DOMAIN" --duration-s "$SECONDS_RUN" \
+      --warmup-s 2 | grep '^probe:' | sed -e 's/left_age_p50_ms=/display_age_ms_p50=/' \
+      -e 's/left_age_p95_ms=/display_age_ms_p95=/' || true)
+    report+=" pairs_per_s_run=$(echo "$report" | tr ' ' '\n' | grep '^left=' | cut -d= -f2 \
+      | awk -v s="$SECONDS_RUN" '{ printf "%.1f", $1 / (s - 2) }')"  # after the warm-up
+  else
     report=$(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \
-      "$BUILD_DIR/operator_client/operator_client" --headless --domain "$DOMAIN" \
-      --config deploy/config/client_sim.pbtxt --role observer --id observer \
-      --display "$display" --duration "$SECONDS_RUN" --log-level warning | grep '^report:')
-    kill -TERM "$server"; wait "$server" || true
-    get() { echo "$report" | tr ' ' '\n' | grep "^$1=" | cut -d= -f2; }
-    printf '| %s | %s | %.1f | %.1f | %.1f | %.1f | %.1f |\n' "$source" "$display" \
-      "$(get pair_rate_hz_last_2s)" "$(get display_age_ms_p50)" "$(get display_age_ms_p95)" \
-      "$(get frame_time_ms_p50)" "$(get frame_time_ms_p95)"
-    reports+=("$report")
-    labels+=("$source $display")
+      "$CLIENT" --headless --domain "$DOMAIN" --config "$work/client_$vision.pbtxt" \
+      "${calibration[@]}" --role observer --id observer --display "$display" \
+      --duration "$SECONDS_RUN" --log-level warning | grep '^report:' || true)
+  fi
+  kill -TERM "$server" 2>/dev/null; wait "$server" || true
+  echo "$report load_avg_1m=$load"
+}
+
+# Median [min-max] of the numbers on stdin, formatted with one decimal.
+summary() {
+  sort -g | awk '{ v[NR] = $1 } END {
+    if (NR == 0) { printf "-"; exit }
+    m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
+    if (NR == 1) printf "%.1f", m; else printf "%.1f [%.1f-%.1f]", m, v[1], v[NR] }'
+}
+get() { tr ' ' '\n' | { grep "^$1=" || true; } | cut -d= -f2; }  # key $1 of the reports on stdin
+
+declare -a labels=() results=()
+printf '| source | display | vision | pairs/s | age p50 ms | age p95 ms | dropped | results in time / late | load |\n'
+printf '|---|---|---|---|---|---|---|---|---|\n'
+for source in $SOURCES; do
+  for display in $DISPLAYS; do
+    visions=$VISION
+    [ "$display" != probe ] || visions=-
+    for vision in $visions; do
+      reports=""
+      for _ in $(seq "$RUNS"); do
+        reports+="$(run_once "$source" "$display" "$vision")"$'\n'
+      done
+      col() { echo "$reports" | get "$1" | summary; }
+      late=$(echo "$reports" | get vision_without_result | awk '{ s += $1 } END { print s + 0 }')
+      in_time=$(echo "$reports" | get vision_in_time | awk '{ s += $1 } END { print s + 0 }')
+      printf '| %s | %s | %s | %s | %s | %s | %s | %s / %s | %s |\n' "$source" "$display" "$vision" \
+        "$(col pairs_per_s_run)" "$(col display_age_ms_p50)" "$(col display_age_ms_p95)" \
+        "$(col pairs_dropped)" "$in_time" "$late" "$(col load_avg_1m)"
+      labels+=("$source $display vision $vision")
+      results+=("$reports")
+    done
   done
 done
 echo
-header='| stage (ms, p50 / p95) |'
+header='| stage (p95 ms) |'
 rule='|---|'
 for label in "${labels[@]}"; do header+=" $label |"; rule+='---|'; done
 echo "$header"
 echo "$rule"
 for stage in "${STAGES[@]}"; do
   line="| $stage |"
-  for report in "${reports[@]}"; do
-    p50=$(echo "$report" | tr ' ' '\n' | grep "^latency_${stage}_ms_p50=" | cut -d= -f2)
-    p95=$(echo "$report" | tr ' ' '\n' | grep "^latency_${stage}_ms_p95=" | cut -d= -f2)
-    line+=$(printf ' %.1f / %.1f |' "${p50:-0}" "${p95:-0}")
+  for reports in "${results[@]}"; do
+    line+=" $(echo "$reports" | get "latency_${stage}_ms_p95" | summary) |"
   done
   echo "$line"
 done

@@ -98,6 +98,9 @@ void DrawHudPanel(const client::RobotSnapshot& robot, const client::ReceiverStat
   if (!status.overlay_note.empty()) {
     ImGui::TextColored(ImVec4(1, 0.7f, 0.1f, 1), "%s", status.overlay_note.c_str());
   }
+  if (!status.vision_note.empty()) {
+    ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "%s", status.vision_note.c_str());
+  }
   if (status.calibration_proposal) {
     ImGui::TextColored(ImVec4(0.4f, 0.9f, 1, 1), "calibration proposal ready: C to review");
   }

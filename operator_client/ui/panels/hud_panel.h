@@ -38,6 +38,8 @@ struct HudStatus {
   size_t sonar_unseen = 0;
   // The overlay is drawn faded (not at the image's time) and why; empty otherwise.
   std::string overlay_note;
+  // How the shown pair relates to its edge result (ResultNote); empty when it is in.
+  std::string vision_note;
   // A trustworthy self-calibration proposal waits in the closed calibration panel (C).
   bool calibration_proposal = false;
 };
