@@ -65,6 +65,13 @@ TEST(ServerOptionsTest, ReplaySensorsReplaysCameraAndLaserOfOneFileAtOneRate) {
   EXPECT_DOUBLE_EQ(config.laser().replay().rate(), 0.5);
   EXPECT_TRUE(config.camera().replay().loop());
   EXPECT_TRUE(config.laser().replay().loop());
+  EXPECT_FALSE(config.camera().replay().deliver_at_capture_time());
+  // The configuration's pacing of the replayed camera stays.
+  ServerConfig at_capture;
+  at_capture.mutable_camera()->mutable_replay()->set_deliver_at_capture_time(true);
+  ApplyFlags(flags, &at_capture);
+  EXPECT_EQ(at_capture.camera().replay().file(), "/data/run.mostar");
+  EXPECT_TRUE(at_capture.camera().replay().deliver_at_capture_time());
 }
 
 TEST(ServerOptionsTest, TheHardwareRobotKeepsItsEstopLatchTheSimulatedOneWhenAsked) {

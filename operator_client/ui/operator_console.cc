@@ -245,6 +245,7 @@ bool OperatorConsole::Frame() {
   BuildOverlay(robot, scan, &overlay, &features, &sonar);
   sonar_echoes_ = sonar.echoes;
   sonar_unseen_ = sonar.unseen;
+  const SteadyTime overlay_built = clock_->SteadyNow();
 
   // Only the eyes the display mode shows are drawn (one in mono).
   const std::array<bool, 2> shown_eyes = render::EyesShown(options_.mode, window_->quad_buffer());
@@ -256,8 +257,10 @@ bool OperatorConsole::Frame() {
         image, render::MakeEyeView(geometry_.eye(e)), overlay,
         ScaledAlignment(e == 0 ? options_.left_alignment : options_.right_alignment, image_scale_));
   }
+  const SteadyTime eyes_drawn = clock_->SteadyNow();
   compositor_.Compose(options_.mode, eyes_[0].texture(), eyes_[1].texture(), fb_w, fb_h,
                       window_->quad_buffer());
+  const SteadyTime composed = clock_->SteadyNow();
   imgui_->BeginFrame();
   DrawPanels(robot, features, sonar, pair, fb_w, fb_h);
   imgui_->EndFrame();
@@ -280,6 +283,9 @@ bool OperatorConsole::Frame() {
     shown_.CountOverlay(motion_.moved, motion_.faded);
     if (!first_presented_) first_presented_ = presented;
     if (presented - *first_presented_ >= options_.trace_warmup) {
+      const auto ms = [](SteadyTime from, SteadyTime to) { return ToSeconds(to - from) * 1e3; };
+      frame_parts_.Add({ms(start, overlay_built), ms(overlay_built, eyes_drawn),
+                        ms(eyes_drawn, composed), ms(composed, drawn)});
       latency_.Add(tracer_.Timeline(
           {pair->sequence, pair->stamp, pair->received, pair->decode_started, pair->decoded},
           robot_->TimingOf(pair->stamp), {picker.shown_ready_at(), start, drawn, presented},
@@ -306,6 +312,7 @@ ConsoleRunTotals OperatorConsole::RunTotals(Duration run) const {
   totals.overlays_moved = shown_.overlays_moved();
   totals.overlays_faded = shown_.overlays_faded();
   totals.latency = latency_.Rows();
+  totals.frame_parts = frame_parts_.Rows();
   const FramePicker::Counts& vision = vision_->picker().counts();
   totals.vision_in_time = vision.in_time;
   totals.vision_without_result = vision.without_result;

@@ -27,6 +27,7 @@
 #include "operator_client/ui/console_vision.h"
 #include "operator_client/ui/decode_scaling.h"
 #include "operator_client/ui/drive_input.h"
+#include "operator_client/ui/frame_parts.h"
 #include "operator_client/ui/frame_picker.h"
 #include "operator_client/ui/imgui_layer.h"
 #include "operator_client/ui/intrinsics_adoption.h"
@@ -207,6 +208,7 @@ class OperatorConsole {
   double frame_time_ms_ = 0;
   ShownPairStats shown_;
   LatencyTrace latency_;
+  FrameParts frame_parts_;                     // `drawn` by part, for frames that showed a new pair
   std::optional<SteadyTime> first_presented_;  // the first new pair's frame (trace warm-up)
   PairTracer tracer_;                          // when the render loop first took each recent pair
   bool show_latency_ = false;

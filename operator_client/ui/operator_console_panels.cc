@@ -67,7 +67,7 @@ void OperatorConsole::DrawPanels(const client::RobotSnapshot& robot,
     if (next && vision_->ApplySettings(*next, &error)) options_.vision = next->options();
     if (next && !error.empty()) status_line_ = "edges: " + error;
   }
-  if (show_latency_) DrawLatencyPanel(latency_, &show_latency_);
+  if (show_latency_) DrawLatencyPanel(latency_, frame_parts_.Rows(), &show_latency_);
   if (show_help_) DrawHelpPanel(&show_help_);
 }
 

@@ -33,8 +33,12 @@ std::string FormatRunReport(const ConsoleRunTotals& c, const client::ReceiverSta
       << " keyframe_requests=" << v.keyframe_requests << " pairs_dropped=" << v.pairs_dropped
       << " late_pairs=" << v.late_dropped << " vision_in_time=" << c.vision_in_time
       << " vision_without_result=" << c.vision_without_result
-      << " vision_added_late=" << c.vision_added_late << " vision_missed=" << c.vision_missed
-      << "\n";
+      << " vision_added_late=" << c.vision_added_late << " vision_missed=" << c.vision_missed;
+  for (const LatencyRow& row : c.frame_parts) {
+    out << " part_" << row.name << "_ms_p50=" << row.p50_ms << " part_" << row.name
+        << "_ms_p95=" << row.p95_ms;
+  }
+  out << "\n";
   return out.str();
 }
 

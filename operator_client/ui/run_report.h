@@ -26,7 +26,8 @@ struct ConsoleRunTotals {
   uint64_t sonar_unseen = 0;
   uint64_t overlays_moved = 0;
   uint64_t overlays_faded = 0;
-  std::vector<LatencyRow> latency;  // one p50/p95 pair of keys per row
+  std::vector<LatencyRow> latency;      // one p50/p95 pair of keys per row
+  std::vector<LatencyRow> frame_parts;  // `drawn` by part (FrameParts): part_<name>_ms_p50/_p95
   // Edge processing: pairs shown with their result, shown when their result wait ran out (and
   // of those, the result added later), and results that came when a newer pair was on screen.
   uint64_t vision_in_time = 0;

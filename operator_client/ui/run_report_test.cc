@@ -54,6 +54,7 @@ TEST(RunReportTest, EveryCountHasItsKey) {
   console.vision_without_result = 6;
   console.vision_added_late = 5;
   console.latency = {{"decoded", 4.5, 8.25, 10}, {"total", 90, 140, 10}};
+  console.frame_parts = {{"eyes", 3.5, 6.0, 10}};
   client::ReceiverStats video;
   video.broken_images = 5;
   video.video_gaps = 6;
@@ -72,6 +73,8 @@ TEST(RunReportTest, EveryCountHasItsKey) {
   EXPECT_EQ(keys["latency_decoded_ms_p50"], "4.5");
   EXPECT_EQ(keys["latency_decoded_ms_p95"], "8.25");
   EXPECT_EQ(keys["latency_total_ms_p95"], "140");
+  EXPECT_EQ(keys["part_eyes_ms_p50"], "3.5");
+  EXPECT_EQ(keys["part_eyes_ms_p95"], "6");
   EXPECT_EQ(keys["broken_images"], "5");
   EXPECT_EQ(keys["video_gaps"], "6");
   EXPECT_EQ(keys["pairs_dropped"], "8");

@@ -212,10 +212,12 @@ bool MakeReplayDevices(const ServerConfig& config, const std::string& config_dir
     const camera::ReplayCameraConfig& r = config.camera().replay();
     replay::ReplayStereoCamera::Options options;
     if (!replay_device("camera.replay.file", r.file(), r.rate(), r.loop(), &options)) return false;
+    options.due_at_stamp = r.deliver_at_capture_time();
     devices->camera = std::make_unique<replay::ReplayStereoCamera>(options);
     devices->camera_options = camera::MakePipelineOptions(config.camera());
     MOSTAR_LOG(INFO) << "camera: replaying " << options.path << " at " << r.rate() << "x"
-                     << (r.loop() ? ", looping" : "");
+                     << (r.loop() ? ", looping" : "")
+                     << (options.due_at_stamp ? ", each pair at its capture stamp" : "");
   }
   if (ReplaysLaser(config)) {
     const laser::LaserReplayConfig& r = config.laser().replay();

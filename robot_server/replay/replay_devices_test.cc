@@ -198,6 +198,28 @@ TEST_F(ReplayDevicesTest, CameraDeliversPairsInOrderAtTheirLogTimes) {
   EXPECT_TRUE(broken_counter);
 }
 
+TEST_F(ReplayDevicesTest, CameraDeliversPairsAtTheirCaptureStampsWhenAsked) {
+  auto timeline = Timeline();
+  ReplayStereoCamera::Options options = CameraOptions(timeline);
+  options.due_at_stamp = true;
+  ReplayStereoCamera camera(options);
+  const SteadyTime s0 = clock_.SteadyNow();
+  const Time w0 = clock_.Now();
+  std::string error;
+  ASSERT_TRUE(camera.Open(&error)) << error;
+  const Time begin = timeline->begin();
+  for (int k = 0; k < kPairs; ++k) {
+    if (k == kBrokenPair) continue;
+    camera::StereoImagePair pair;
+    ASSERT_TRUE(camera.Grab(std::chrono::seconds(1), &pair).ok()) << k;
+    EXPECT_EQ(Grey(pair.left), GreyOf(k)) << "pair " << k;
+    // Due at its capture stamp, 6 ms before its log time (pair 0's stamp precedes the
+    // recording's first log time: delivered at once).
+    EXPECT_EQ(clock_.SteadyNow(), std::max(s0, s0 + (PairStamp(k) - begin))) << "pair " << k;
+    EXPECT_EQ(pair.stamp, w0 + (PairStamp(k) - begin)) << "pair " << k;
+  }
+}
+
 TEST_F(ReplayDevicesTest, CameraRateScalesThePacing) {
   ReplayTimelineOptions options;
   options.rate = 4.0;

@@ -119,7 +119,8 @@ camera::GrabResult ReplayStereoCamera::Grab(Duration timeout, camera::StereoImag
       MOSTAR_LOG_EVERY_SEC(INFO, 10) << "camera replay: " << end;
       return GrabResult::Error(GrabStatus::kEndOfStream, end);
     }
-    const SteadyTime due = timeline.DueTime(pending_->log_time, pass_);
+    const SteadyTime due = timeline.DueTime(
+        options_.due_at_stamp ? pending_->pair.left.stamp : pending_->log_time, pass_);
     if (due > deadline) {
       SleepUntil(deadline);
       return GrabResult::Error(

@@ -6,6 +6,8 @@
 // - Pairs: left and right eyes paired by capture stamp (record::ReplayFrameSource); stamps are
 //   the timeline's (ReplayTimeline::Restamp), the sequence counts pairs delivered and skipped,
 //   so a gap is a dropped pair.
+// - Pacing: each pair when its log time is due, or with Options::due_at_stamp when its capture
+//   stamp is (the recording's capture-to-log time left out).
 // - Decoding: only pairs that are delivered, both eyes at once (the right one on a helper
 //   thread, as a camera reads its two sensors out together). When several pairs are overdue
 //   (the capture thread was late, or Open() resumes mid-recording), only the newest is

@@ -35,6 +35,8 @@ struct ReplayDeviceOptions {
   const Clock* clock = &SystemClock::Instance();  // the timeline's clock; not owned
   // Waits in slices of at most 20 ms, so stopping is prompt.
   SleepFn sleep = RealSleep;
+  // Camera only: a pair is due at its capture stamp, not at its log time.
+  bool due_at_stamp = false;
 };
 
 struct ReplayTimelineOptions {

@@ -3,7 +3,8 @@
 # Xvfb/llvmpipe. Prints two tables: per run configuration the delivered pair rate, the
 # capture-to-display age, the pairs dropped, the edge results' timing and the load average; then
 # the capture-to-screen latency trace, stage by stage (p95 ms of each stage since the one before,
-# the total capture to presented), one column per configuration. With RUNS > 1 every cell is
+# the total capture to presented) and `drawn` by part (overlay geometry, eyes, compositor,
+# panels), one column per configuration. With RUNS > 1 every cell is
 # the median of the runs' values with their range.
 #
 #   tests/bench/client_latency_bench.sh [BUILD_DIR] [SECONDS]
@@ -12,7 +13,8 @@
 #   camera       a camera-like source: 20 s of the simulator at 640x480 with a pilot driving a
 #                curve, recorded before the runs; each run replays it in a loop through the live
 #                camera pipeline (--replay-sensors: recorded JPEGs decoded like a camera's
-#                readout, then compressed as captured), so no scene is rendered during the run
+#                readout, then compressed as captured), so no scene is rendered during the run;
+#                each pair enters the pipeline at its capture stamp (deliver_at_capture_time)
 #   camera_1280  the same at the cameras' native 1280x960, shown in the 640x480 window
 #   test_pattern the server's test pattern (a control row: the cheapest source)
 #   sim, sim_1280  the simulator rendering the scene during the run (its CPU renderer shares
@@ -37,6 +39,7 @@ CLIENT=${CLIENT:-$BUILD_DIR/operator_client/operator_client}
 SERVER=$BUILD_DIR/robot_server/robot_server
 DOMAIN=$((150 + $$ % 50))
 STAGES=(encoded written received queued decoded picked vision started drawn presented total)
+PARTS=(overlay eyes compose panels)  # `drawn` by part (the console's FrameParts)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -62,8 +65,8 @@ record_source() {
 
 server_args() {  # the robot_server arguments of source $1
   case $1 in
-    camera) echo "--config deploy/config/server_sim.pbtxt --replay-sensors $work/camera_640.mrec --loop" ;;
-    camera_1280) echo "--config deploy/config/server_sim_1280.pbtxt --replay-sensors $work/camera_1280.mrec --loop" ;;
+    camera) echo "--config $work/replay_640.pbtxt --replay-sensors $work/camera_640.mrec --loop" ;;
+    camera_1280) echo "--config $work/replay_1280.pbtxt --replay-sensors $work/camera_1280.mrec --loop" ;;
     test_pattern) echo "--config deploy/config/server_sim.pbtxt --source test_pattern" ;;
     sim) echo "--config deploy/config/server_sim.pbtxt" ;;
     sim_1280) echo "--config deploy/config/server_sim_1280.pbtxt" ;;
@@ -71,6 +74,17 @@ server_args() {  # the robot_server arguments of source $1
   esac
 }
 
+# The replays deliver each pair at its capture stamp (not when it was recorded), so `encoded`
+# holds the live pipeline only (CAPTURE_TIME=0: as recorded, the recording's own
+# capture-to-log time included).
+for size in 640 1280; do
+  config=deploy/config/server_sim.pbtxt
+  [ "$size" = 640 ] || config=deploy/config/server_sim_1280.pbtxt
+  sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" "$config" > "$work/replay_$size.pbtxt"
+  if [ "${CAPTURE_TIME:-1}" = 1 ]; then
+    printf 'camera { replay { deliver_at_capture_time: true } }\n' >> "$work/replay_$size.pbtxt"
+  fi
+done
 for source in $SOURCES; do
   [ "$source" = camera ] && record_source deploy/config/server_sim.pbtxt "$work/camera_640.mrec"
   [ "$source" = camera_1280 ] && record_source deploy/config/server_sim_1280.pbtxt "$work/camera_1280.mrec"
@@ -139,10 +153,17 @@ rule='|---|'
 for label in "${labels[@]}"; do header+=" $label |"; rule+='---|'; done
 echo "$header"
 echo "$rule"
-for stage in "${STAGES[@]}"; do
-  line="| $stage |"
-  for reports in "${results[@]}"; do
-    line+=" $(echo "$reports" | get "latency_${stage}_ms_p95" | summary) |"
+# One row per name: label $1 + name, the key "$2<name>_ms_p95" of every configuration.
+rows() {
+  local label=$1 key=$2 name line reports
+  shift 2
+  for name in "$@"; do
+    line="| $label$name |"
+    for reports in "${results[@]}"; do
+      line+=" $(echo "$reports" | get "$key${name}_ms_p95" | summary) |"
+    done
+    echo "$line"
   done
-  echo "$line"
-done
+}
+rows "" latency_ "${STAGES[@]}"
+rows "drawn: " part_ "${PARTS[@]}"

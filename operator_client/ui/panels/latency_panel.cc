@@ -4,7 +4,7 @@
 
 namespace mostar::ui {
 
-void DrawLatencyPanel(const LatencyTrace& trace, bool* open) {
+void DrawLatencyPanel(const LatencyTrace& trace, const std::vector<LatencyRow>& parts, bool* open) {
   ImGui::SetNextWindowPos(ImVec2(8, 300), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.75f);
   if (!ImGui::Begin("Latency: capture to screen", open, ImGuiWindowFlags_AlwaysAutoResize)) {
@@ -18,7 +18,12 @@ void DrawLatencyPanel(const LatencyTrace& trace, bool* open) {
     ImGui::TableSetupColumn("p50 ms");
     ImGui::TableSetupColumn("p95 ms");
     ImGui::TableHeadersRow();
-    for (const LatencyRow& row : trace.Rows()) {
+    std::vector<LatencyRow> rows = trace.Rows();
+    for (LatencyRow part : parts) {
+      part.name = "  drawn: " + part.name;
+      rows.push_back(part);
+    }
+    for (const LatencyRow& row : rows) {
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(row.name.c_str());
