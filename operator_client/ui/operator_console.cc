@@ -225,15 +225,14 @@ bool OperatorConsole::Frame() {
   UpdateVision(CaptureFilter(video_->Latest()));
   const FramePicker& picker = vision_->picker();
   const std::optional<client::DecodedStereoPair>& pair = picker.shown_pair();
-  const bool new_pair = pair && pair->sequence != last_pair_;
-  // The shown pair's edge result came after it was first drawn: drawn again with it.
-  const bool new_result = !new_pair && pair && picker.shown_version() != last_version_;
   // A render of the captured pair with its scans and edge result in.
   const bool capture_render = capture_ && capture_->IsCaptureRender(pair, options_.vision_enabled,
                                                                     picker.result_sequence());
-  if (options_.headless && !new_pair && !new_result && !capture_render) return false;
-  last_version_ = picker.shown_version();
-  if (new_result) ++redrawn_with_result_;
+  const FrameSchedule::Decision frame =
+      schedule_.Next(pair ? std::optional<uint64_t>(pair->sequence) : std::nullopt,
+                     picker.shown_version(), options_.headless, capture_render);
+  if (!frame.draw) return false;
+  const bool new_pair = frame.new_pair;
   const SteadyTime start = clock_->SteadyNow();
 
   const client::RobotSnapshot robot = robot_->Snapshot();
@@ -265,9 +264,8 @@ bool OperatorConsole::Frame() {
   DrawPanels(robot, features, sonar, pair, fb_w, fb_h);
   imgui_->EndFrame();
   const SteadyTime drawn = clock_->SteadyNow();
-  if (new_pair || new_result) {
+  if (new_pair || frame.new_result) {
     if (new_pair) ++rendered_pairs_;
-    last_pair_ = pair->sequence;
     if (options_.headless && options_.keep_last_frame) {
       last_frame_ = render::ReadFramebuffer(fb_w, fb_h);
     }
@@ -281,8 +279,7 @@ bool OperatorConsole::Frame() {
     const RobotTimeMapper to_robot(clock_->Now(), clock_->SteadyNow(), robot.clock);
     shown_.Add(ToSeconds(to_robot(drawn) - pair->stamp) * 1e3, frame_time_ms_);  // capture to drawn
     shown_.CountOverlay(motion_.moved, motion_.faded);
-    if (!first_presented_) first_presented_ = presented;
-    if (presented - *first_presented_ >= options_.trace_warmup) {
+    if (schedule_.CountsForTrace(presented, options_.trace_warmup)) {
       const auto ms = [](SteadyTime from, SteadyTime to) { return ToSeconds(to - from) * 1e3; };
       frame_parts_.Add({ms(start, overlay_built), ms(overlay_built, eyes_drawn),
                         ms(eyes_drawn, composed), ms(composed, drawn)});

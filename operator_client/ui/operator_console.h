@@ -29,6 +29,7 @@
 #include "operator_client/ui/drive_input.h"
 #include "operator_client/ui/frame_parts.h"
 #include "operator_client/ui/frame_picker.h"
+#include "operator_client/ui/frame_schedule.h"
 #include "operator_client/ui/imgui_layer.h"
 #include "operator_client/ui/intrinsics_adoption.h"
 #include "operator_client/ui/latency_trace.h"
@@ -200,17 +201,14 @@ class OperatorConsole {
   bool show_edge_view_ = false;
   bool show_help_ = false;
   std::string status_line_;
-  uint64_t last_pair_ = 0;
-  uint64_t last_version_ = 0;  // FramePicker::shown_version() of the last frame drawn
+  FrameSchedule schedule_;  // which frames are drawn, and the trace's warm-up
   uint64_t rendered_pairs_ = 0;
-  uint64_t redrawn_with_result_ = 0;  // frames that added a late edge result to a shown pair
   cv::Mat last_frame_;
   double frame_time_ms_ = 0;
   ShownPairStats shown_;
   LatencyTrace latency_;
-  FrameParts frame_parts_;                     // `drawn` by part, for frames that showed a new pair
-  std::optional<SteadyTime> first_presented_;  // the first new pair's frame (trace warm-up)
-  PairTracer tracer_;                          // when the render loop first took each recent pair
+  FrameParts frame_parts_;  // `drawn` by part, for frames that showed a new pair
+  PairTracer tracer_;       // when the render loop first took each recent pair
   bool show_latency_ = false;
   size_t sonar_echoes_ = 0;
   size_t sonar_unseen_ = 0;
