@@ -1,24 +1,31 @@
 #include "operator_client/render/eye_renderer.h"
 
+#include <algorithm>
+
 namespace mostar::render {
 
 namespace {
 
-// Full-screen quad from a vertex id.
+// Full-viewport quad from a vertex id; v_corner runs 0..1 across the viewport, bottom-left up.
 constexpr const char* kImageVertex = R"(#version 330 core
+out vec2 v_corner;
 void main() {
   vec2 corner = vec2(float((gl_VertexID & 1)), float((gl_VertexID >> 1) & 1));
+  v_corner = corner;
   gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 }
 )";
 
 // Each displayed pixel q (u right, v down, pixel centres at integers) shows the camera-image
 // pixel image_c + f * Distort(R (q - display_c) / f): eye_geometry.h, WarpToImage. Texture row 0 is
-// the image's top row. Outside the camera image: black.
+// the image's top row. Outside the camera image: black. The viewport shows the whole displayed
+// image, scaled to fit; the position comes from the quad, not gl_FragCoord, whose transform
+// Mesa 22 can leave stale when one program draws into a window and then a framebuffer object.
 constexpr const char* kImageFragment = R"(#version 330 core
 uniform sampler2D u_image;
 uniform int u_has_image;
-uniform vec2 u_size;  // framebuffer = image size, px
+uniform vec2 u_size;  // displayed image size, px
+in vec2 v_corner;
 uniform vec2 u_focal;
 uniform vec2 u_rotation;  // cos, sin
 uniform vec2 u_display_c;
@@ -31,7 +38,8 @@ void main() {
     color = vec4(0.25, 0.25, 0.25, 1.0);
     return;
   }
-  vec2 q = vec2(gl_FragCoord.x - 0.5, u_size.y - 0.5 - gl_FragCoord.y);
+  vec2 p = v_corner * u_size;  // from the bottom-left corner, displayed px
+  vec2 q = vec2(p.x - 0.5, u_size.y - 0.5 - p.y);
   vec2 m = (q - u_display_c) / u_focal;
   vec2 n = vec2(u_rotation.x * m.x - u_rotation.y * m.y, u_rotation.y * m.x + u_rotation.x * m.y);
   float r2 = dot(n, n);
@@ -147,12 +155,38 @@ void EyeRenderer::Render(const cv::Mat& image, const EyeView& view, const Overla
   glDisable(GL_SCISSOR_TEST);
   glClearColor(0, 0, 0, 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  Draw(image, view, overlay, alignment, {0, 0, width, height});
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void EyeRenderer::RenderInto(const WindowRegion& region, const cv::Mat& image, const EyeView& view,
+                             const OverlayGeometry& overlay, const EyeAlignment& alignment) {
+  if (region.width_px <= 0 || region.height_px <= 0) return;
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(region.x_px, region.y_px, region.width_px, region.height_px);
+  Draw(image, view, overlay, alignment, region);
+}
+
+void EyeRenderer::Draw(const cv::Mat& image, const EyeView& view, const OverlayGeometry& overlay,
+                       const EyeAlignment& alignment, const WindowRegion& region) {
+  // The displayed image's size (the last image's while there is none).
+  if (!image.empty()) {
+    image_width_ = image.cols;
+    image_height_ = image.rows;
+  }
+  const int width = image.empty() ? std::max(image_width_, 640) : image.cols;
+  const int height = image.empty() ? std::max(image_height_, 480) : image.rows;
+  // Target pixels per displayed pixel (1 in the eye's own framebuffer).
+  const float scale_x = static_cast<float>(region.width_px) / static_cast<float>(width);
+  const float scale_y = static_cast<float>(region.height_px) / static_cast<float>(height);
   // Crop: only the region with a correspondence in the other eye is drawn.
   glEnable(GL_SCISSOR_TEST);
-  const int x0 = static_cast<int>(alignment.crop_left_px);
-  const int y0 = static_cast<int>(alignment.crop_bottom_px);
-  glScissor(x0, y0, std::max(0, width - x0 - static_cast<int>(alignment.crop_right_px)),
-            std::max(0, height - y0 - static_cast<int>(alignment.crop_top_px)));
+  const auto to_target = [](float px, float scale) { return static_cast<int>(px * scale); };
+  const int x0 = to_target(alignment.crop_left_px, scale_x);
+  const int y0 = to_target(alignment.crop_bottom_px, scale_y);
+  const int x1 = region.width_px - to_target(alignment.crop_right_px, scale_x);
+  const int y1 = region.height_px - to_target(alignment.crop_top_px, scale_y);
+  glScissor(region.x_px + x0, region.y_px + y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   image_program_.Use();
@@ -173,7 +207,9 @@ void EyeRenderer::Render(const cv::Mat& image, const EyeView& view, const Overla
   glBindVertexArray(quad_vao_);
   glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
 
-  // Overlay: semi-transparent, no depth test (the image has no depth; walls blend).
+  // Overlay: semi-transparent, no depth test (the image has no depth; walls blend). Point sizes
+  // and line widths are in displayed pixels, scaled with the image.
+  const float size_scale = scale_y;
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glEnable(GL_PROGRAM_POINT_SIZE);
@@ -181,16 +217,15 @@ void EyeRenderer::Render(const cv::Mat& image, const EyeView& view, const Overla
   glUniformMatrix4fv(overlay_program_.Uniform("u_projection"), 1, GL_FALSE,
                      view.matrices.projection.data());
   glUniformMatrix4fv(overlay_program_.Uniform("u_view"), 1, GL_FALSE, view.matrices.view.data());
-  glUniform1f(overlay_program_.Uniform("u_point_size"), overlay.point_size_px);
+  glUniform1f(overlay_program_.Uniform("u_point_size"), overlay.point_size_px * size_scale);
   glBindVertexArray(overlay_vao_);
   DrawArray(overlay.triangles, GL_TRIANGLES);
-  glLineWidth(2.f);
+  glLineWidth(std::max(1.f, 2.f * size_scale));
   DrawArray(overlay.lines, GL_LINES);
   DrawArray(overlay.points, GL_POINTS);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 }  // namespace mostar::render

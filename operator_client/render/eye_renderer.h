@@ -1,6 +1,8 @@
-// Renders one eye: the camera image as a textured quad and the AR geometry over it, into an
-// offscreen framebuffer the size of the camera image. The stereo compositor then combines the
-// two eyes' framebuffers for the chosen display mode.
+// Renders one eye: the camera image as a textured quad and the AR geometry over it, either into
+// an offscreen framebuffer the size of the camera image (the stereo compositor then combines the
+// two eyes' framebuffers for modes that blend them: anaglyphs, row interlacing, quad buffer), or
+// straight into the eye's region of the window (mono, side by side, top-bottom: no compositor
+// pass, the same pixels for a window region the image's size).
 //
 // The image is drawn through the eye's ImageWarp (eye_geometry.h): each displayed pixel samples
 // the camera image where the eye's image model sees the same ray, which removes the lens
@@ -32,6 +34,15 @@ struct EyeView {
 
 EyeView MakeEyeView(const EyeGeometry& geometry);
 
+// A rectangle of the bound draw framebuffer in OpenGL pixels (origin bottom-left) that shows one
+// eye's whole displayed image, scaled to fill it.
+struct WindowRegion {
+  int x_px = 0;
+  int y_px = 0;
+  int width_px = 0;
+  int height_px = 0;
+};
+
 class EyeRenderer {
  public:
   EyeRenderer() = default;
@@ -45,12 +56,20 @@ class EyeRenderer {
   // background). Only the crop of `alignment` is used here (its offset is in view.warp).
   void Render(const cv::Mat& image, const EyeView& view, const OverlayGeometry& overlay,
               const EyeAlignment& alignment);
+  // Renders into `region` of the window's framebuffer (0, its current draw buffer), which the
+  // caller has cleared: outside the crop the region keeps what it had. Overlay point sizes and
+  // line widths scale with the image. texture() is not touched.
+  void RenderInto(const WindowRegion& region, const cv::Mat& image, const EyeView& view,
+                  const OverlayGeometry& overlay, const EyeAlignment& alignment);
   GLuint texture() const { return color_texture_; }
   int width() const { return width_; }
   int height() const { return height_; }
 
  private:
   void EnsureTarget(int width, int height);
+  // Draws image and overlay into `region` of the bound framebuffer (viewport already set).
+  void Draw(const cv::Mat& image, const EyeView& view, const OverlayGeometry& overlay,
+            const EyeAlignment& alignment, const WindowRegion& region);
   void DrawArray(const fusion::VertexArray& array, GLenum mode);
 
   GlProgram image_program_;
@@ -63,8 +82,10 @@ class EyeRenderer {
   GLuint framebuffer_ = 0;
   GLuint color_texture_ = 0;
   GLuint depth_buffer_ = 0;
-  int width_ = 0;
+  int width_ = 0;  // the framebuffer's
   int height_ = 0;
+  int image_width_ = 0;  // the last displayed image's
+  int image_height_ = 0;
 };
 
 }  // namespace mostar::render

@@ -32,4 +32,21 @@ std::array<bool, 2> EyesShown(DisplayMode mode, bool quad_buffer_available) {
   return shown;
 }
 
+bool DrawsEyesInPlace(DisplayMode mode) {
+  switch (mode) {
+    case DisplayMode::kMonoLeft:
+    case DisplayMode::kMonoRight:
+    case DisplayMode::kSideBySideFull:
+    case DisplayMode::kSideBySideHalf:
+    case DisplayMode::kTopBottom:
+      return true;
+    case DisplayMode::kAnaglyphGrey:
+    case DisplayMode::kAnaglyphColor:
+    case DisplayMode::kRowInterlaced:
+    case DisplayMode::kQuadBuffer:
+      break;
+  }
+  return false;
+}
+
 }  // namespace mostar::render

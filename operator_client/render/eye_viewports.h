@@ -39,4 +39,8 @@ std::vector<EyeViewport> EyeViewports(DisplayMode mode, int window_w, int window
 // fallback).
 std::array<bool, 2> EyesShown(DisplayMode mode, bool quad_buffer_available);
 
+// True when `mode` shows each eye in a region of its own (mono, side by side, top-bottom): the
+// eyes can be drawn straight into the window, without the compositor's pass over both.
+bool DrawsEyesInPlace(DisplayMode mode);
+
 }  // namespace mostar::render

@@ -106,5 +106,18 @@ TEST(EyeViewportsTest, MonoModesShowOneEyeAndTheOthersBoth) {
   EXPECT_EQ(EyesShown(DisplayMode::kQuadBuffer, false), (Shown{true, false}));
 }
 
+// Drawn in place exactly where the eyes' rectangles do not overlap (nothing to blend).
+TEST(EyeViewportsTest, EyesAreDrawnInPlaceWhereTheirRectanglesAreApart) {
+  for (const DisplayMode mode :
+       {DisplayMode::kMonoLeft, DisplayMode::kMonoRight, DisplayMode::kSideBySideFull,
+        DisplayMode::kSideBySideHalf, DisplayMode::kTopBottom, DisplayMode::kAnaglyphGrey,
+        DisplayMode::kAnaglyphColor, DisplayMode::kRowInterlaced, DisplayMode::kQuadBuffer}) {
+    const std::vector<EyeViewport> v = EyeViewports(mode, 640, 480);
+    const bool apart = v.size() == 1 || (v[0].x_px + v[0].width_px <= v[1].x_px ||
+                                         v[0].y_px + v[0].height_px <= v[1].y_px);
+    EXPECT_EQ(DrawsEyesInPlace(mode), apart) << DisplayModeName(mode);
+  }
+}
+
 }  // namespace
 }  // namespace mostar::render

@@ -9,6 +9,7 @@
 #include "common/math/camera_model.h"
 #include "operator_client/fusion/sonar_features.h"
 #include "operator_client/render/eye_renderer.h"
+#include "operator_client/render/eye_viewports.h"
 #include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
 #include "operator_client/render/stereo_compositor.h"
@@ -244,6 +245,95 @@ TEST_F(RenderTest, AlignmentShiftsAndCrops) {
   const cv::Mat out = ReadEye(eyes_[0]);
   EXPECT_LT(out.at<cv::Vec3b>(240, 10)[0], 15);   // cropped
   EXPECT_GT(out.at<cv::Vec3b>(240, 30)[0], 240);  // shifted image
+}
+
+// A textured image with a wall, rays and points over it: what the pixel comparisons draw.
+cv::Mat TexturedImage() {
+  cv::Mat image(480, 640, CV_8UC3);
+  cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(256));
+  cv::GaussianBlur(image, image, cv::Size(5, 5), 1.5);
+  return image;
+}
+
+OverlayGeometry WallRayAndPoints(const math::LaserCameraCalibration& calibration) {
+  OverlayGeometry overlay;
+  const float z0 = static_cast<float>(-calibration.laser_height_m);
+  const float z1 = z0 + 0.4f;
+  const fusion::Rgba wall{0.2f, 0.9f, 0.3f, 0.5f};
+  for (const auto& v : {std::array<float, 3>{2.f, -0.8f, z0},
+                        {2.f, 0.8f, z0},
+                        {2.f, 0.8f, z1},
+                        {2.f, -0.8f, z0},
+                        {2.f, 0.8f, z1},
+                        {2.f, -0.8f, z1}}) {
+    overlay.triangles.Add(v[0], v[1], v[2], wall);
+  }
+  overlay.lines.Add(0.f, 0.f, 0.f, {1, 0, 0, 1});
+  overlay.lines.Add(2.5f, 0.5f, z0, {1, 0, 0, 1});
+  overlay.points.Add(1.5f, -0.3f, z0, {1, 0, 1, 1});
+  overlay.point_size_px = 6.f;
+  return overlay;
+}
+
+// Mono, in a window the image's size: drawing the eye in place gives the composed pixels.
+TEST_F(RenderTest, DrawingInPlaceGivesTheComposedPixels) {
+  const math::LaserCameraCalibration calibration;
+  EyeAlignment alignment;
+  alignment.offset_x_px = 12;
+  alignment.crop_left_px = 12.5f;
+  alignment.crop_top_px = 7;
+  const EyeView view = View(calibration, alignment);
+  const cv::Mat image = TexturedImage();
+  const OverlayGeometry overlay = WallRayAndPoints(calibration);
+  eyes_[0].Render(image, view, overlay, alignment);
+  const cv::Mat composed = Compose(DisplayMode::kMonoLeft);
+  ASSERT_TRUE(DrawsEyesInPlace(DisplayMode::kMonoLeft));
+  StereoCompositor::ClearWindow(640, 480);
+  eyes_[0].RenderInto({0, 0, 640, 480}, image, view, overlay, alignment);
+  const cv::Mat in_place = ReadFramebuffer(640, 480);
+  // The blended overlay may round differently (an RGBA eye framebuffer against the window's).
+  EXPECT_LE(cv::norm(composed, in_place, cv::NORM_INF), 1.0);
+  EXPECT_LT(cv::mean(cv::abs(composed - in_place))[0], 0.5);
+  // The comparison can fail: the wall and the crop are there.
+  EXPECT_LT(in_place.at<cv::Vec3b>(240, 5)[0], 5) << "cropped column";
+  StereoCompositor::ClearWindow(640, 480);
+  eyes_[0].RenderInto({0, 0, 640, 480}, image, view, {}, alignment);
+  const cv::Mat without_overlay = ReadFramebuffer(640, 480);
+  EXPECT_GT(cv::norm(without_overlay, in_place, cv::NORM_L1), 1e5) << "overlay not drawn";
+  // The image alone: the same pixels, also when a framebuffer object is drawn after the window
+  // with the same program (Mesa 22 may leave gl_FragCoord's window transform in place).
+  eyes_[0].Render(image, view, {}, alignment);
+  EXPECT_LE(cv::norm(Compose(DisplayMode::kMonoLeft), without_overlay, cv::NORM_INF), 1.0);
+  EXPECT_LT(cv::norm(Compose(DisplayMode::kMonoLeft), without_overlay, cv::NORM_L1), 1e3);
+}
+
+// Side by side (half): each eye drawn in place fills its half, scaled, crop included, as the
+// compositor shows it.
+TEST_F(RenderTest, SideBySideInPlaceScalesEachEyeIntoItsHalf) {
+  const math::LaserCameraCalibration calibration;
+  cv::Mat left(480, 640, CV_8UC3, cv::Scalar(255, 255, 255));
+  left.rowRange(0, 120).setTo(cv::Scalar(0, 0, 0));  // a black band at the top
+  const cv::Mat right(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  EyeAlignment crop;
+  crop.crop_left_px = 40;  // 20 window pixels at half width
+  const EyeView view = View(calibration);
+  StereoCompositor::ClearWindow(640, 480);
+  for (const EyeViewport& v : EyeViewports(DisplayMode::kSideBySideHalf, 640, 480)) {
+    const bool is_left = v.eye == math::Eye::kLeft;
+    eyes_[is_left ? 0 : 1].RenderInto({v.x_px, v.GlY(480), v.width_px, v.height_px},
+                                      is_left ? left : right, view, {},
+                                      is_left ? crop : EyeAlignment{});
+  }
+  const cv::Mat in_place = ReadFramebuffer(640, 480);
+  EXPECT_LT(in_place.at<cv::Vec3b>(240, 10)[0], 5) << "cropped";
+  EXPECT_GT(in_place.at<cv::Vec3b>(240, 30)[0], 250) << "left eye, white";
+  EXPECT_LT(in_place.at<cv::Vec3b>(50, 100)[0], 5) << "left eye's band at the top";
+  EXPECT_LT(in_place.at<cv::Vec3b>(240, 500)[0], 5) << "right eye, black";
+  eyes_[0].Render(left, view, {}, crop);
+  eyes_[1].Render(right, view, {}, {});
+  const cv::Mat composed = Compose(DisplayMode::kSideBySideHalf);
+  // Bilinear sampling of the image instead of the eye framebuffer: edges may differ by a pixel.
+  EXPECT_LT(cv::mean(cv::abs(composed - in_place))[0], 1.0);
 }
 
 // The texture's level 0 as `format` (GL_BGR or GL_RED), rows as uploaded.

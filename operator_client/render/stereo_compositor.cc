@@ -71,6 +71,17 @@ void StereoCompositor::DrawQuad(unsigned left_texture, unsigned right_texture, i
   glActiveTexture(GL_TEXTURE0);
 }
 
+void StereoCompositor::ClearWindow(int window_width, int window_height) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDrawBuffer(GL_BACK);
+  glDisable(GL_BLEND);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glViewport(0, 0, window_width, window_height);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+}
+
 void StereoCompositor::Compose(DisplayMode mode, unsigned left_texture, unsigned right_texture,
                                int w, int h, bool quad_buffer_available) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

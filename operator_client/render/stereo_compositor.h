@@ -17,6 +17,10 @@ class StereoCompositor {
   // falls back to kMonoLeft).
   void Compose(DisplayMode mode, unsigned left_texture, unsigned right_texture, int window_width,
                int window_height, bool quad_buffer_available);
+  // Binds the window's framebuffer (back buffer) and clears it to black with the state the
+  // eyes' RenderInto expects: what Compose does before its pass, for modes whose eyes are drawn
+  // in place (DrawsEyesInPlace).
+  static void ClearWindow(int window_width, int window_height);
   ~StereoCompositor();
 
  private:

@@ -23,6 +23,10 @@
 # net_probe (tests/network), whose age is capture to received: what the robot side and the
 # transport cost on this machine without the console's CPU. VISION: "on off" (edge processing;
 # a probe row runs once, as "-").
+# EXTRA: other readers of the same robot during every run: "observers" (two net_probe
+# observers: the robot writes each video sample to them too) and/or "web" (mostar_web with one
+# WebSocket reader, tests/web/web_reader.py; WEB_EDGES: its --edges, default the configuration's:
+# on); their own delivery is printed in the first table.
 # RUNS: runs per configuration (the client's trace leaves out its first 2 s of pairs: the
 # warm-up). CLIENT: another operator_client binary to time instead of BUILD_DIR's (A/B against
 # an older build).
@@ -35,6 +39,8 @@ SOURCES=${SOURCES:-camera camera_1280 test_pattern}
 DISPLAYS=${DISPLAYS:-mono-left anaglyph-color}
 VISION=${VISION:-on off}
 RUNS=${RUNS:-1}
+EXTRA=${EXTRA:-}
+WEB_EDGES=${WEB_EDGES:-config}
 CLIENT=${CLIENT:-$BUILD_DIR/operator_client/operator_client}
 SERVER=$BUILD_DIR/robot_server/robot_server
 DOMAIN=$((150 + $$ % 50))
@@ -90,14 +96,67 @@ for source in $SOURCES; do
   [ "$source" = camera_1280 ] && record_source deploy/config/server_sim_1280.pbtxt "$work/camera_1280.mrec"
 done
 
+# mostar_web's TLS certificate and an observer token (EXTRA=web).
+if [[ " $EXTRA " == *" web "* ]]; then
+  openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -keyout "$work/web.key" \
+    -out "$work/web.cert" -days 1 -subj /CN=localhost \
+    -addext "subjectAltName=DNS:localhost,IP:127.0.0.1" > /dev/null 2>&1
+  web_token=bench-token-0123456789abcdef
+  echo "bench $web_token" > "$work/web.tokens"
+fi
+
+# Starts the EXTRA readers for a run of the robot on $DOMAIN; their pids in extra_pids.
+start_extra() {
+  extra_pids=()
+  if [[ " $EXTRA " == *" observers "* ]]; then
+    for i in 1 2; do
+      "$BUILD_DIR/tests/network/net_probe" --domain "$DOMAIN" --id "probe$i" \
+        --duration-s "$((SECONDS_RUN + 2))" --warmup-s 2 > "$work/probe$i.out" 2>&1 &
+      extra_pids+=($!)
+    done
+  fi
+  if [[ " $EXTRA " == *" web "* ]]; then
+    "$BUILD_DIR/operator_client/web/mostar_web" --domain "$DOMAIN" \
+      --config deploy/config/client_sim.pbtxt --cert "$work/web.cert" --key "$work/web.key" \
+      --tokens "$work/web.tokens" --port 0 --edges "$WEB_EDGES" --log-level warning > "$work/web.out" 2> "$work/web.log" &
+    web_pid=$!
+    local port=""
+    for _ in $(seq 100); do
+      port=$(grep -o 'serving https://[^ ]*' "$work/web.out" | sed -e 's|.*:\([0-9]*\)/.*|\1|' || true)
+      [ -z "$port" ] || break
+      sleep 0.1
+    done
+    python3 tests/web/web_reader.py "$port" "$work/web.cert" "$web_token" \
+      --seconds "$SECONDS_RUN" > "$work/web_reader.out" 2>&1 &
+    extra_pids+=($!)
+  fi
+}
+
+# Waits for the EXTRA readers; prints their delivery as report keys.
+stop_extra() {
+  local pid i
+  for pid in "${extra_pids[@]}"; do wait "$pid" || true; done
+  if [[ " $EXTRA " == *" observers "* ]]; then
+    for i in 1 2; do
+      echo -n " observer${i}_pairs_per_s=$(grep '^probe:' "$work/probe$i.out" | tr ' ' '\n' \
+        | grep '^left=' | cut -d= -f2 | awk -v s="$SECONDS_RUN" '{ printf "%.1f", $1 / s }')"
+    done
+  fi
+  if [[ " $EXTRA " == *" web "* ]]; then
+    kill -TERM "$web_pid" 2>/dev/null; wait "$web_pid" || true
+    echo -n " web_$(grep '^web:' "$work/web_reader.out" | sed -e 's/^web: //' -e 's/ / web_/g')"
+  fi
+}
+
 # One run: prints the client's report line with the load average before the run appended.
 run_once() {
-  local source=$1 display=$2 vision=$3 load server report
+  local source=$1 display=$2 vision=$3 load server report extra
   read -r load _ < /proc/loadavg
   # shellcheck disable=SC2046
   "$SERVER" --domain "$DOMAIN" $(server_args "$source") --log-level warning > "$work/server.log" 2>&1 &
   server=$!
   sleep 2
+  start_extra
   if [ "$display" = probe ]; then
     # The probe's ages as the console's keys (the console's stages stay empty).
     report=$("$BUILD_DIR/tests/network/net_probe" --domain "$DOMAIN" --duration-s "$SECONDS_RUN" \
@@ -111,8 +170,10 @@ run_once() {
       "${calibration[@]}" --role observer --id observer --display "$display" \
       --duration "$SECONDS_RUN" --log-level warning | grep '^report:' || true)
   fi
+  stop_extra > "$work/extra.keys"
+  extra=$(cat "$work/extra.keys")
   kill -TERM "$server" 2>/dev/null; wait "$server" || true
-  echo "$report load_avg_1m=$load"
+  echo "$report$extra load_avg_1m=$load"
 }
 
 # Median [min-max] of the numbers on stdin, formatted with one decimal.
@@ -125,8 +186,8 @@ summary() {
 get() { tr ' ' '\n' | { grep "^$1=" || true; } | cut -d= -f2; }  # key $1 of the reports on stdin
 
 declare -a labels=() results=()
-printf '| source | display | vision | pairs/s | age p50 ms | age p95 ms | dropped | results in time / late | load |\n'
-printf '|---|---|---|---|---|---|---|---|---|\n'
+printf '| source | display | vision | pairs/s | age p50 ms | age p95 ms | dropped | results in time / late | load | extra readers: pairs/s (age p95 ms) |\n'
+printf '|---|---|---|---|---|---|---|---|---|---|\n'
 for source in $SOURCES; do
   for display in $DISPLAYS; do
     visions=$VISION
@@ -139,9 +200,11 @@ for source in $SOURCES; do
       col() { echo "$reports" | get "$1" | summary; }
       late=$(echo "$reports" | get vision_without_result | awk '{ s += $1 } END { print s + 0 }')
       in_time=$(echo "$reports" | get vision_in_time | awk '{ s += $1 } END { print s + 0 }')
-      printf '| %s | %s | %s | %s | %s | %s | %s | %s / %s | %s |\n' "$source" "$display" "$vision" \
+      extra="-"
+      [ -z "$EXTRA" ] || extra="observers $(col observer1_pairs_per_s), $(col observer2_pairs_per_s); web $(col web_frames_per_s) ($(col web_age_p95_ms))"
+      printf '| %s | %s | %s | %s | %s | %s | %s | %s / %s | %s | %s |\n' "$source" "$display" "$vision" \
         "$(col pairs_per_s_run)" "$(col display_age_ms_p50)" "$(col display_age_ms_p95)" \
-        "$(col pairs_dropped)" "$in_time" "$late" "$(col load_avg_1m)"
+        "$(col pairs_dropped)" "$in_time" "$late" "$(col load_avg_1m)" "$extra"
       labels+=("$source $display vision $vision")
       results+=("$reports")
     done
