@@ -148,6 +148,7 @@ TEST(ShippedConfigTest, ThesisClientTurnsEveryExtensionOff) {
   EXPECT_EQ(v.nearest_edge.min_step_grey, 0);
   EXPECT_EQ(v.nearest_edge.min_crossing_angle_deg, 0.0);
   EXPECT_EQ(v.nearest_edge.start_grey_deviation, 0);
+  EXPECT_FALSE(v.nearest_edge.floor_stereo.enabled);
   EXPECT_EQ(v.nearest_edge.lateral_tolerance_px, 0);
   EXPECT_EQ(v.classifier.min_threshold_px, 0.0);
   EXPECT_EQ(v.nesc.min_threshold_px, 0.0);

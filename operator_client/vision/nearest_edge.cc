@@ -55,6 +55,7 @@ class RaySampler {
 
 bool NearestEdgeOptions::IsValid(std::string* error) const {
   std::ostringstream why;
+  std::string message;
   if (!std::isfinite(max_range_m) || max_range_m <= 0.0) {
     why << "max_range_m must be finite and > 0 (got " << max_range_m << ")";
   } else if (!(step_px > 0.0 && step_px <= 1.0)) {
@@ -73,6 +74,8 @@ bool NearestEdgeOptions::IsValid(std::string* error) const {
     why << "start_grey_deviation must be in [0, 255] (got " << start_grey_deviation << ")";
   } else if (bottom_margin_px < 0) {
     why << "bottom_margin_px must be >= 0 (got " << bottom_margin_px << ")";
+  } else if (!floor_stereo.IsValid(&message)) {
+    why << message;
   } else {
     return true;
   }
@@ -202,7 +205,7 @@ bool EdgeCrossesRay(const cv::Mat& grey, int col, int row, const Eigen::Vector2d
 
 Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
                             const NearestEdgeOptions& options, double laser_height_m,
-                            const cv::Mat& grey) {
+                            const cv::Mat& grey, const FloorStereoImages* floor, int* floor_edges) {
   MOSTAR_CHECK(edges.type() == CV_8UC1);
   MOSTAR_CHECK(grey.empty() || (grey.type() == CV_8UC1 && grey.size() == edges.size()));
   const int width = edges.cols;
@@ -283,9 +286,43 @@ Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
            EdgeCrossesRay(grey, hit.col, hit.row, Eigen::Vector2d(p.direction_u, p.direction_v),
                           options.min_crossing_angle_deg);
   };
+  // The floor test: the region beyond the edge at ray pixel i, from near_px ray pixels beyond it
+  // up to the next edge pixel (at least 3 beyond: an edge curve may be that thick) or far_px,
+  // half_width_px across (every second pixel), judged against the other eye.
+  const FloorStereoOptions& floor_options = options.floor_stereo;
+  const bool floor_test = floor != nullptr && floor_options.enabled;
+  const auto on_floor = [&](size_t i, const Hit& edge) {
+    if (!floor_test || floor->valid.ptr<uint8_t>(edge.row)[edge.col] == 0) return false;
+    const cv::Vec2f edge_shift = floor->shift.ptr<cv::Vec2f>(edge.row)[edge.col];
+    FloorEvidence evidence;
+    const size_t last = std::min(pixels.size() - 1, i + static_cast<size_t>(floor_options.far_px));
+    for (size_t k = i + static_cast<size_t>(floor_options.near_px); k <= last; ++k) {
+      const RayPixels::Pixel& p = pixels[k];
+      Hit next;
+      if (k >= i + 3 && hit_at(p, &next)) break;
+      if ((k - i) % 2 != 0) continue;  // every second ray pixel
+      // Across the ray's image: (-v, u) of its direction.
+      const float across_u = -p.direction_v;
+      const float across_v = p.direction_u;
+      // The half width: half_width_m of floor across the ray here (at least 4 px, at most
+      // half_width_px), the distance to the camera taken as the floor distance.
+      const int half_width =
+          std::clamp(static_cast<int>(floor_options.half_width_m * floor->focal_px /
+                                      std::max(0.3f, p.centre_t_m)),
+                     4, floor_options.half_width_px);
+      for (int o = -half_width; o <= half_width; o += 2) {
+        JudgePixel(*floor, p.col + static_cast<int>(std::lround(o * across_u)),
+                   p.row + static_cast<int>(std::lround(o * across_v)), edge_shift, floor_options,
+                   &evidence);
+      }
+    }
+    if (Verdict(evidence, floor_options) != FloorVerdict::kFloor) return false;
+    if (floor_edges != nullptr) ++*floor_edges;
+    return true;
+  };
   for (size_t i = 0; i < pixels.size(); ++i) {
     Hit hit;
-    if (!hit_at(pixels[i], &hit) || !is_step(i)) continue;
+    if (!hit_at(pixels[i], &hit) || !is_step(i) || on_floor(i, hit)) continue;
     nep.along_ray = !crosses(pixels[i], hit);
     size_t best_index = i;
     if (options.base_search_m > 0.0 && !grey.empty()) {
@@ -424,11 +461,12 @@ void MarkRaysStartingOnObjects(const std::vector<const RayPixels*>& rays, const 
 bool NearestEdgeFinder::Find(const cv::Mat& edges,
                              const std::shared_ptr<const math::CameraModel>& camera,
                              const LaserScan& scan, NedResult* out, std::string* error,
-                             const cv::Mat& grey) {
+                             const cv::Mat& grey, const FloorStereoImages* floor) {
   MOSTAR_CHECK(out != nullptr);
   out->neps.assign(scan.ranges_m.size(), Nep{});
   out->visible_rays = 0;
   out->found = 0;
+  out->floor_edges = 0;
   if (camera == nullptr) {
     if (error != nullptr) *error = "missing camera model";
     return false;
@@ -437,7 +475,8 @@ bool NearestEdgeFinder::Find(const cv::Mat& edges,
   if (!Prepare(camera, scan, error)) return false;
   const double laser_height_m = camera->calibration().laser_height_m;
   for (size_t i = 0; i < rays_.size(); ++i) {
-    out->neps[i] = FindNearestEdgeOnPixels(edges, rays_[i], options_, laser_height_m, grey);
+    out->neps[i] = FindNearestEdgeOnPixels(edges, rays_[i], options_, laser_height_m, grey, floor,
+                                           &out->floor_edges);
     out->visible_rays += rays_[i].visible ? 1 : 0;
     out->found += out->neps[i].found ? 1 : 0;
   }

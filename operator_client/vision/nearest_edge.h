@@ -25,6 +25,7 @@
 
 #include "common/math/camera_model.h"
 #include "common/types/laser_scan.h"
+#include "operator_client/vision/floor_stereo.h"
 
 namespace mostar::vision {
 
@@ -70,6 +71,10 @@ struct NearestEdgeOptions {
   // kMinStartRays such rays. 0 = off (the thesis).
   int start_grey_deviation = 80;
   static constexpr int kMinStartRays = 9;
+  // Floor test (ground-plane stereo, floor_stereo.h): an edge pixel whose region beyond it along
+  // the ray is judged floor under the floor warp of the other eye lies on the floor (a tile
+  // border, tape) and the walk goes on past it. Needs both eyes (FloorStereoImages).
+  FloorStereoOptions floor_stereo;
 
   bool IsValid(std::string* error) const;
 };
@@ -105,6 +110,7 @@ struct NedResult {
   std::vector<Nep> neps;
   int visible_rays = 0;  // beams whose virtual ray has a visible part in the image
   int found = 0;         // beams with a NEP
+  int floor_edges = 0;  // edge pixels the floor test walked past (NearestEdgeOptions::floor_stereo)
 };
 
 // Runs NED for every beam of `scan` (any range value, NaN and Inf included: the virtual ray only
@@ -148,9 +154,12 @@ RayPixels TraceRayPixels(const math::CameraModel& camera, double azimuth_rad,
 
 // The NEP along precomputed ray pixels; `edges` as in FindNearestEdges. `grey` is the stretched
 // grey image the edges came from (CV_8UC1, same size), for the base refinement; empty = none.
+// `floor`: this eye's images for the floor test (null or options.floor_stereo off = no test);
+// `floor_edges` counts the edge pixels it walked past.
 Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
                             const NearestEdgeOptions& options, double laser_height_m,
-                            const cv::Mat& grey = cv::Mat());
+                            const cv::Mat& grey = cv::Mat(),
+                            const FloorStereoImages* floor = nullptr, int* floor_edges = nullptr);
 
 // NED with the ray pixels of every beam cached: they are rebuilt only when the camera model
 // (compared by pointer: hand over the same shared_ptr while the calibration is unchanged), the
@@ -159,10 +168,10 @@ class NearestEdgeFinder {
  public:
   explicit NearestEdgeFinder(const NearestEdgeOptions& options) : options_(options) {}
 
-  // As FindNearestEdges.
+  // As FindNearestEdges; `floor` as in FindNearestEdgeOnPixels.
   bool Find(const cv::Mat& edges, const std::shared_ptr<const math::CameraModel>& camera,
             const LaserScan& scan, NedResult* out, std::string* error,
-            const cv::Mat& grey = cv::Mat());
+            const cv::Mat& grey = cv::Mat(), const FloorStereoImages* floor = nullptr);
 
   // Builds (or keeps) the ray pixel cache for this camera and scan geometry; false with `error`
   // on invalid options or scan angles, or a missing camera.

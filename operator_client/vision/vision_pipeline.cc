@@ -41,6 +41,19 @@ proto::VisionConfig ToProto(const VisionOptions& options) {
   ned->set_step_offset_px(options.nearest_edge.step_offset_px);
   ned->set_min_crossing_angle_deg(options.nearest_edge.min_crossing_angle_deg);
   ned->set_start_grey_deviation(options.nearest_edge.start_grey_deviation);
+  const FloorStereoOptions& floor = options.nearest_edge.floor_stereo;
+  proto::FloorStereoConfig* floor_config = ned->mutable_floor_stereo();
+  floor_config->set_enabled(floor.enabled);
+  floor_config->set_near_px(floor.near_px);
+  floor_config->set_far_px(floor.far_px);
+  floor_config->set_half_width_px(floor.half_width_px);
+  floor_config->set_min_gradient(floor.min_gradient);
+  floor_config->set_max_difference(floor.max_difference);
+  floor_config->set_min_judged(floor.min_judged);
+  floor_config->set_floor_share(floor.floor_share);
+  floor_config->set_margin(floor.margin);
+  floor_config->set_min_separation_px(floor.min_separation_px);
+  floor_config->set_half_width_m(floor.half_width_m);
   config.set_edge_threshold_m(options.classifier.edge_threshold_m);
   config.set_stereo_threshold_m(options.nesc.stereo_threshold_m);
   config.set_stereo(options.stereo);
@@ -71,6 +84,19 @@ VisionOptions FromProto(const proto::VisionConfig& config) {
   options.nearest_edge.step_offset_px = ned.step_offset_px();
   options.nearest_edge.min_crossing_angle_deg = ned.min_crossing_angle_deg();
   options.nearest_edge.start_grey_deviation = ned.start_grey_deviation();
+  const proto::FloorStereoConfig& floor_config = ned.floor_stereo();
+  FloorStereoOptions& floor = options.nearest_edge.floor_stereo;
+  floor.enabled = floor_config.enabled();
+  floor.near_px = floor_config.near_px();
+  floor.far_px = floor_config.far_px();
+  floor.half_width_px = floor_config.half_width_px();
+  floor.min_gradient = floor_config.min_gradient();
+  floor.max_difference = floor_config.max_difference();
+  floor.min_judged = floor_config.min_judged();
+  floor.floor_share = floor_config.floor_share();
+  floor.margin = floor_config.margin();
+  floor.min_separation_px = floor_config.min_separation_px();
+  floor.half_width_m = floor_config.half_width_m();
   options.classifier.edge_threshold_m = config.edge_threshold_m();
   options.nesc.stereo_threshold_m = config.has_stereo_threshold_m()
                                         ? config.stereo_threshold_m()
@@ -131,42 +157,95 @@ void VisionPipeline::Process(const VisionInput& input, VisionResult* out) {
   }
 
   // One eye: the ray cache first (it gives the highest row the rays reach), then the
-  // pre-processing below that row only, then NED. Writes only its own outputs and `why`.
-  const auto run_eye = [&](const cv::Mat& image,
-                           const std::shared_ptr<const math::CameraModel>& camera_ptr,
-                           NearestEdgeFinder* finder, const char* name, EdgeImages* edges,
-                           NedResult* ned, std::string* why) {
-    const math::CameraModel& camera = *camera_ptr;
-    if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
-      std::ostringstream message;
-      message << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
-              << camera.width_px() << "x" << camera.height_px();
-      *why = message.str();
-      return false;
-    }
+  // pre-processing below that row only. Writes only its own outputs and `why`.
+  const auto detect_eye =
+      [&](const cv::Mat& image, const std::shared_ptr<const math::CameraModel>& camera_ptr,
+          NearestEdgeFinder* finder, const char* name, EdgeImages* edges, std::string* why) {
+        const math::CameraModel& camera = *camera_ptr;
+        if (image.cols != camera.width_px() || image.rows != camera.height_px()) {
+          std::ostringstream message;
+          message << name << " image is " << image.cols << "x" << image.rows << ", camera model is "
+                  << camera.width_px() << "x" << camera.height_px();
+          *why = message.str();
+          return false;
+        }
+        std::string detail;
+        if (!finder->Prepare(camera_ptr, input.scan, &detail) ||
+            !detector_.Detect(image, edges, &detail, finder->top_row())) {
+          *why = std::string(name) + ": " + detail;
+          return false;
+        }
+        return true;
+      };
+  // Then NED on that eye (`floor`: its images for the floor test, or null).
+  const auto find_eye = [&](const std::shared_ptr<const math::CameraModel>& camera_ptr,
+                            NearestEdgeFinder* finder, const char* name, const EdgeImages& edges,
+                            const FloorStereoImages* floor, NedResult* ned, std::string* why) {
     std::string detail;
-    if (!finder->Prepare(camera_ptr, input.scan, &detail) ||
-        !detector_.Detect(image, edges, &detail, finder->top_row()) ||
-        !finder->Find(edges->edges, camera_ptr, input.scan, ned, &detail, edges->stretched_grey)) {
+    if (!finder->Find(edges.edges, camera_ptr, input.scan, ned, &detail, edges.stretched_grey,
+                      floor)) {
       *why = std::string(name) + ": " + detail;
       return false;
     }
     return true;
   };
+  const auto run_eye = [&](const cv::Mat& image,
+                           const std::shared_ptr<const math::CameraModel>& camera_ptr,
+                           NearestEdgeFinder* finder, const char* name, EdgeImages* edges,
+                           NedResult* ned, std::string* why) {
+    return detect_eye(image, camera_ptr, finder, name, edges, why) &&
+           find_eye(camera_ptr, finder, name, *edges, nullptr, ned, why);
+  };
 
   if (options_.stereo) {
-    // The two eyes are independent: one on each core.
+    // The two eyes are independent: one on each core. With the floor test, each eye's NED also
+    // needs the other eye's stretched image: edges on both first, then the warps and NED.
     bool ok[2] = {false, false};
     std::string why[2];
+    const bool floor_test = options_.nearest_edge.floor_stereo.enabled;
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
       for (int eye = range.start; eye < range.end; ++eye) {
-        ok[eye] = eye == 0 ? run_eye(input.left, input.left_camera, &left_finder_, "left",
-                                     &out->left_edges, &out->left_ned, &why[0])
-                           : run_eye(input.right, input.right_camera, &right_finder_, "right",
-                                     &out->right_edges, &out->right_ned, &why[1]);
+        if (floor_test) {
+          ok[eye] = eye == 0 ? detect_eye(input.left, input.left_camera, &left_finder_, "left",
+                                          &out->left_edges, &why[0])
+                             : detect_eye(input.right, input.right_camera, &right_finder_, "right",
+                                          &out->right_edges, &why[1]);
+        } else {
+          ok[eye] = eye == 0 ? run_eye(input.left, input.left_camera, &left_finder_, "left",
+                                       &out->left_edges, &out->left_ned, &why[0])
+                             : run_eye(input.right, input.right_camera, &right_finder_, "right",
+                                       &out->right_edges, &out->right_ned, &why[1]);
+        }
       }
     });
     if (!ok[0] || !ok[1]) return finish(false, !ok[0] ? why[0] : why[1]);
+    if (floor_test) {
+      cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
+        for (int eye = range.start; eye < range.end; ++eye) {
+          const bool left = eye == 0;
+          FloorWarp& warp = left ? left_floor_warp_ : right_floor_warp_;
+          FloorStereoImages& images = left ? left_floor_ : right_floor_;
+          const auto& self = left ? input.left_camera : input.right_camera;
+          const auto& other = left ? input.right_camera : input.left_camera;
+          NearestEdgeFinder& finder = left ? left_finder_ : right_finder_;
+          const EdgeImages& own = left ? out->left_edges : out->right_edges;
+          const EdgeImages& others = left ? out->right_edges : out->left_edges;
+          if (!warp.Prepare(self, other, finder.top_row(), &why[eye])) {
+            ok[eye] = false;
+            continue;
+          }
+          images.grey = own.stretched_grey;
+          images.other = others.stretched_grey;
+          warp.Warp(others.stretched_grey, &images.warped);
+          images.valid = warp.valid();
+          images.shift = warp.shift();
+          images.focal_px = self->calibration().fx();
+          ok[eye] = find_eye(self, &finder, left ? "left" : "right", own, &images,
+                             left ? &out->left_ned : &out->right_ned, &why[eye]);
+        }
+      });
+      if (!ok[0] || !ok[1]) return finish(false, !ok[0] ? why[0] : why[1]);
+    }
     if (!RunNesc(out->left_ned, out->right_ned, input.scan, *input.right_camera, options_.nesc,
                  options_.classifier, &out->nesc, &error)) {
       return finish(false, "nesc: " + error);

@@ -112,6 +112,11 @@ class VisionPipeline {
   EdgeDetector detector_;
   NearestEdgeFinder left_finder_;
   NearestEdgeFinder right_finder_;
+  // The floor test (NearestEdgeOptions::floor_stereo): each eye's warp of the other's image.
+  FloorWarp left_floor_warp_;
+  FloorWarp right_floor_warp_;
+  FloorStereoImages left_floor_;
+  FloorStereoImages right_floor_;
 };
 
 }  // namespace mostar::vision

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 
 #include "robot_server/sim/laser_raycast.h"
 #include "robot_server/sim/scene.h"
@@ -59,6 +60,17 @@ std::vector<float> TrueBaseDistances(const sim::SimWorld& world, const Pose2D& w
                                                 : std::numeric_limits<float>::infinity();
   }
   return out;
+}
+
+cv::Mat DistanceToBaseLines(const cv::Mat& labels) {
+  cv::Mat not_base(labels.size(), CV_8U, cv::Scalar(255));
+  for (const cv::Point& p : sim::BaseLinePixels(labels)) {
+    not_base.at<uint8_t>(p) = 0;
+    not_base.at<uint8_t>(p + cv::Point(0, 1)) = 0;
+  }
+  cv::Mat distance;
+  cv::distanceTransform(not_base, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return distance;
 }
 
 }  // namespace mostar::vision

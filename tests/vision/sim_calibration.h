@@ -3,7 +3,9 @@
 #pragma once
 
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "common/math/camera_model.h"
 #include "robot_server/sim/ground_truth.h"
@@ -31,5 +33,10 @@ bool LoadSimScene(const std::string& name, sim::proto::Scene* scene, std::string
 // beam of the simulated laser (same beams as its scans): a raycast 1 cm above the floor.
 // +Inf: none.
 std::vector<float> TrueBaseDistances(const sim::SimWorld& world, const Pose2D& world_from_base);
+
+// Pixel distance (CV_32F) from every pixel to the nearest base line of the simulator's `labels`:
+// the obstacle pixel sitting on the floor and the floor pixel under it (the edge lies between
+// the two; Canny marks either).
+cv::Mat DistanceToBaseLines(const cv::Mat& labels);
 
 }  // namespace mostar::vision

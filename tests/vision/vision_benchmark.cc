@@ -5,7 +5,9 @@
 // Run from the repository root or with MOSTAR_SOURCE_DIR set.
 #include <benchmark/benchmark.h>
 
+#include <map>
 #include <stdexcept>
+#include <tuple>
 
 #include "operator_client/vision/vision_pipeline.h"
 #include "robot_server/sim/sim_world.h"
@@ -14,14 +16,20 @@
 namespace mostar::vision {
 namespace {
 
+// A simulated pair of `scene_name` at `width` x 3/4 width (the focal length follows the width:
+// the same lens) with radial distortion `k1`.
 struct Fixture {
   VisionInput input;
-  Fixture() {
+  explicit Fixture(const std::string& scene_name = "open_room", int width = 640, double k1 = 0.0) {
     sim::proto::Scene scene;
     std::string error;
-    if (!LoadSimScene("open_room", &scene, &error)) throw std::runtime_error(error);
+    if (!LoadSimScene(scene_name, &scene, &error)) throw std::runtime_error(error);
     sim::proto::SimConfig config;
     config.mutable_laser()->set_resolution(sim::proto::LaserConfig::RES_1_DEG);
+    config.mutable_camera()->set_width_px(width);
+    config.mutable_camera()->set_height_px(width * 3 / 4);
+    config.mutable_camera()->set_focal_px(440.0 * width / 640);
+    config.mutable_camera()->set_k1(k1);
     auto world = sim::SimWorld::Create(scene, config, Time(), &error);
     if (world == nullptr) throw std::runtime_error(error);
     const double laser_height_m = world->laser_params().height_m;
@@ -40,11 +48,16 @@ const Fixture& GetFixture() {
   return fixture;
 }
 
-// Argument: 1 = with colour edges (the default), 0 = grey edges only (the thesis).
-void BM_StereoPipeline(benchmark::State& state) {
-  const Fixture& f = GetFixture();
-  VisionOptions options;
-  options.edges.colour_edges = state.range(0) != 0;
+const Fixture& GetFixture(const std::string& scene, int width, double k1) {
+  static std::map<std::tuple<std::string, int, double>, Fixture> fixtures;
+  const auto key = std::make_tuple(scene, width, k1);
+  auto it = fixtures.find(key);
+  if (it == fixtures.end()) it = fixtures.emplace(key, Fixture(scene, width, k1)).first;
+  return it->second;
+}
+
+// Times the whole pipeline with `options` on `f`'s pair; the last result.
+VisionResult TimePipeline(benchmark::State& state, const Fixture& f, const VisionOptions& options) {
   VisionPipeline pipeline{options};
   VisionResult result;
   for (auto _ : state) {
@@ -52,12 +65,42 @@ void BM_StereoPipeline(benchmark::State& state) {
     benchmark::DoNotOptimize(result.classification.corrected);
   }
   if (!result.ok) state.SkipWithError(result.error.c_str());
+  return result;
+}
+
+// Argument: 1 = with colour edges (the default), 0 = grey edges only (the thesis).
+void BM_StereoPipeline(benchmark::State& state) {
+  VisionOptions options;
+  options.edges.colour_edges = state.range(0) != 0;
+  const VisionResult result = TimePipeline(state, GetFixture(), options);
   state.counters["neps"] = result.nesc.matched + result.nesc.one_eye + result.nesc.disagree;
 }
 BENCHMARK(BM_StereoPipeline)
     ->ArgName("colour_edges")
     ->Arg(1)
     ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The default pipeline on the checkerboard floor, with and without the floor test, at 640x480
+// and 1280x960, without and with lens distortion. Args: width, k1 x 100, floor test (0/1).
+void BM_StereoPipelineCheckerboard(benchmark::State& state) {
+  const Fixture& f = GetFixture("checkerboard_room", static_cast<int>(state.range(0)),
+                                static_cast<double>(state.range(1)) / 100.0);
+  VisionOptions options;
+  options.nearest_edge.floor_stereo.enabled = state.range(2) != 0;
+  const VisionResult result = TimePipeline(state, f, options);
+  state.counters["floor_edges"] = result.left_ned.floor_edges + result.right_ned.floor_edges;
+  state.counters["dots"] = static_cast<double>(result.classification.possible_obstacles.size());
+}
+BENCHMARK(BM_StereoPipelineCheckerboard)
+    ->ArgNames({"width", "k1x100", "floor_test"})
+    ->Args({640, 0, 0})
+    ->Args({640, 0, 1})
+    ->Args({640, -28, 0})
+    ->Args({640, -28, 1})
+    ->Args({1280, -28, 0})
+    ->Args({1280, -28, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -24,20 +24,6 @@ bool IsBasePixel(const cv::Mat& labels, int col, int row) {
          labels.at<uint8_t>(row + 1, col) == sim::kLabelFloor;
 }
 
-// Pixel distance from every pixel to the nearest base line of `labels`: the obstacle pixel
-// sitting on the floor and the floor pixel under it (the edge lies between the two; Canny marks
-// either).
-cv::Mat DistanceToBaseLines(const cv::Mat& labels) {
-  cv::Mat not_base(labels.size(), CV_8U, cv::Scalar(255));
-  for (const cv::Point& p : sim::BaseLinePixels(labels)) {
-    not_base.at<uint8_t>(p) = 0;
-    not_base.at<uint8_t>(p + cv::Point(0, 1)) = 0;
-  }
-  cv::Mat distance;
-  cv::distanceTransform(not_base, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  return distance;
-}
-
 // What one virtual ray meets first in an image, by the simulator's labels.
 enum class RayTruth {
   kVisibleBase,  // a base line with an image step, reached over open floor
