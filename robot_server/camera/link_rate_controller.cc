@@ -118,6 +118,10 @@ double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
 double LinkRateController::PredictedQueueMs(const SentFrames& sent, SteadyTime now) const {
   const double rate = RecentThroughput();
   if (!last_sequence_ || !last_sent_ || rate <= 0) return stats_.queue_delay_ms;
+  // The frames written since the last report drain at the link's rate, which the viewer measures
+  // only while the link is the limit: then a queue shows. Without one (a link that is not full:
+  // the viewer measures the encoder's rate) a big frame in flight would read as queueing.
+  if (stats_.queue_delay_ms < 0.5 * options_.normal_queue_ms) return stats_.queue_delay_ms;
   const double added_ms = static_cast<double>(sent.BitsAfter(*last_sequence_)) / rate * 1e3;
   const double passed_ms = ToSeconds(now - *last_sent_) * 1e3;
   return std::max(0.0, stats_.queue_delay_ms + added_ms - passed_ms);
@@ -139,23 +143,29 @@ void LinkRateController::AddReceived(const FrameArrival& arrival) {
 
 void LinkRateController::AddDelay(const FrameArrival& arrival, SteadyTime sent) {
   const int64_t send_ns = sent.time_since_epoch().count();
-  // The delay of the frame's first byte: less its own transmission time at the rate the link
-  // delivered lately (its peak over 2 s), so that bigger frames at a higher rate do not read as
-  // queueing. No sample before that rate is measured: a delay with the transmission time in and
-  // one without it differ by a frame period, and the base (the window's minimum) would take the
-  // smaller for 10 s. For the same reason a dip of the rate must not inflate the transmission
-  // time: one such sample, a frame period low, read as 50 ms of queue for the whole window and
-  // held a lossy link's rate at its floor.
+  // The base (the path without queueing) is the least one-way delay of a whole frame (its last
+  // byte) over the window, the frame's own transmission time in. A frame's queueing delay is its
+  // delay above the base, less the transmission time of the bytes it has beyond the base
+  // frame's, at the rate the link delivered lately (its peak over 2 s): bigger frames at a
+  // higher rate do not read as queueing. The base itself is never corrected: on a link that is
+  // not full the delivery rate is the encoder's, far below the link's, and a big frame's
+  // transmission time taken at it came out frame periods long; as the window's minimum that one
+  // sample made every later frame read as queued (a still scene held the rate at its floor), as
+  // did a dip of the rate after a repair. Too large a correction only makes that one frame read
+  // as less queued. No sample before the delivery rate is measured.
   if (peak_rates_.empty()) return;
   const double rate = peak_rates_.front().second;
-  const double transmission_ms = arrival.bytes * 8.0 / rate * 1e3;
-  const double delay_ms = static_cast<double>(arrival.arrival_ns - send_ns) / 1e6 - transmission_ms;
+  const double raw_ms = static_cast<double>(arrival.arrival_ns - send_ns) / 1e6;
   const int64_t window_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(options_.base_window).count();
-  while (!base_delays_.empty() && base_delays_.back().second >= delay_ms) base_delays_.pop_back();
-  base_delays_.emplace_back(arrival.arrival_ns, delay_ms);
-  while (arrival.arrival_ns - base_delays_.front().first > window_ns) base_delays_.pop_front();
-  stats_.queue_delay_ms = delay_ms - base_delays_.front().second;
+  while (!base_delays_.empty() && base_delays_.back().delay_ms >= raw_ms) base_delays_.pop_back();
+  base_delays_.push_back({arrival.arrival_ns, raw_ms, arrival.bytes});
+  while (arrival.arrival_ns - base_delays_.front().arrival_ns > window_ns) {
+    base_delays_.pop_front();
+  }
+  const BaseDelay& base = base_delays_.front();
+  const double extra_bits = 8.0 * (static_cast<double>(arrival.bytes) - base.bytes);
+  stats_.queue_delay_ms = raw_ms - base.delay_ms - std::max(0.0, extra_bits / rate * 1e3);
 }
 
 double LinkRateController::RecentThroughput() const {

@@ -6,12 +6,14 @@
 // clock) and when the viewer received it (OnFeedback: FrameArrival on the viewer's clock; only
 // differences of arrival times are used, so the two clocks need no common origin).
 //
-// Delay-based part: the one-way delay of each frame, (arrival - send), against its minimum over
-// the last `base_window` (the path without queueing, whatever the clocks' offset; the window
-// follows clock drift; each frame's own transmission time at the delivery rate taken off) gives
-// the queueing delay q of the last frame reported (transmission at the peak delivery rate of the
-// last 2 s). Its report comes a round trip late, so the
-// decision uses q plus what the frames written since then add: their bits at the delivery rate,
+// Delay-based part: the one-way delay of each whole frame, (arrival - send), against its minimum
+// over the last `base_window` (the path without queueing, whatever the clocks' offset; the window
+// follows clock drift) gives the queueing delay q of the last frame reported, less the
+// transmission time of the bytes the frame has beyond the base frame's (at the peak delivery
+// rate of the last 2 s). The base itself is never corrected by a rate: on a link that is not full
+// the delivery rate is the encoder's. Its report comes a round trip late, so while q shows a
+// queue the decision uses q plus what the frames written since then add: their bits at the
+// delivery rate,
 // less the time that passed. Above `overuse_queue_ms` is over-use, below `normal_queue_ms`
 // normal, between them hold; above `skip_queue_ms` frames are skipped at the source. (GCC fits a
 // trendline to the delay variation of 5 ms packet groups; with one point per frame at 30 Hz its
@@ -125,8 +127,9 @@ class LinkRateController {
   static constexpr int64_t kReleaseBatchNs = 5'000'000;
   void AddReceived(const FrameArrival& arrival);
   void AddDelay(const FrameArrival& arrival, SteadyTime sent);
-  // The queueing delay a frame written at `now` meets: the last one seen, plus what the frames
-  // written since then add (their bits at the delivery rate) less the time that passed.
+  // The queueing delay a frame written at `now` meets: the last one seen, plus, while a queue
+  // shows, what the frames written since then add (their bits at the delivery rate) less the
+  // time that passed.
   double PredictedQueueMs(const SentFrames& sent, SteadyTime now) const;
   void UpdateRate(SteadyTime now);
   // Bits per second the viewer received over the last 500 ms of arrivals; 0 below 200 ms.
@@ -134,8 +137,13 @@ class LinkRateController {
 
   LinkRateOptions options_;
   LinkRateStats stats_;
-  // One-way delays (arrival ns, delay ms), a monotonic deque: its front is the window's minimum.
-  std::deque<std::pair<int64_t, double>> base_delays_;
+  // One-way delays of whole frames, a monotonic deque: its front is the window's minimum.
+  struct BaseDelay {
+    int64_t arrival_ns = 0;
+    double delay_ms = 0;
+    uint32_t bytes = 0;  // the frame's
+  };
+  std::deque<BaseDelay> base_delays_;
   // Throughput (viewer clock) and loss.
   std::deque<std::pair<int64_t, uint32_t>> received_;  // (arrival ns, bytes), last 500 ms
   // (arrival ns, throughput), a monotonic deque over 2 s: its front is the peak delivery rate.
