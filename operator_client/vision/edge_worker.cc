@@ -4,6 +4,7 @@
 
 #include "common/check/check.h"
 #include "common/log/log.h"
+#include "common/sync/thread_priority.h"
 
 namespace mostar::vision {
 
@@ -67,6 +68,9 @@ EdgeWorker::Stats EdgeWorker::stats() const {
 }
 
 void EdgeWorker::Run() {
+  // Edge processing is background work: the decoding and drawing of the pair on screen come
+  // first (the overlay waits for a result at most vision_result_wait_ms anyway).
+  LowerCurrentThreadPriority();
   while (!pending_.closed()) {
     std::optional<VisionInput> taken = pending_.Take(std::chrono::seconds(1));
     if (!taken) continue;

@@ -1,7 +1,5 @@
 #include "robot_server/camera/camera_pipeline.h"
 
-#include <sys/resource.h>
-#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +9,7 @@
 #include <utility>
 
 #include "common/log/log.h"
+#include "common/sync/thread_priority.h"
 
 namespace mostar::camera {
 
@@ -97,10 +96,6 @@ void CameraPipeline::SetState(DeviceState state, const std::string& message) {
   }
   state_ = state;
   message_ = message;
-}
-
-void LowerCurrentThreadPriority() {
-  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 5);
 }
 
 void CameraPipeline::CaptureLoop() {

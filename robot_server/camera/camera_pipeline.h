@@ -66,10 +66,6 @@ struct CameraPipelineOptions {
   bool IsValid(std::string* error) const;
 };
 
-// Lowers the calling thread's scheduling priority (nice +5): video work yields the CPU to the
-// control loop and the laser on a busy robot computer. Threads it starts inherit it.
-void LowerCurrentThreadPriority();
-
 class CameraPipeline {
  public:
   using DeliverFn = std::function<Delivery(const CompressedStereoPair&)>;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/sync/thread_priority.h"
 #include "robot_server/camera/camera_pipeline.h"
 
 namespace mostar::camera {

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/jpeg/jpeg_error.h"
+#include "common/sync/thread_priority.h"
 #include "robot_server/camera/camera_pipeline.h"
 
 namespace mostar::camera {
