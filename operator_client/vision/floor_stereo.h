@@ -29,15 +29,15 @@ namespace mostar::vision {
 struct FloorStereoOptions {
   // Off: NED as without the test (the thesis' profile keeps it off).
   bool enabled = false;
-  // The judged region: ray pixels [near_px, far_px] beyond the edge (the two hypotheses part
-  // by about baseline x rows / camera height pixels, so the region must reach well beyond the
-  // edge), and half_width_px across the ray on each side. near_px in [1, 100], far_px in
-  // (near_px, 200], half_width_px in [0, 100].
+  // The judged region: ray pixels from near_px beyond the edge up to the next edge pixel (at
+  // least 3 beyond), at most far_px (the two hypotheses part by about baseline x rows / camera
+  // height pixels, so the region must reach well beyond the edge); across the ray on each side,
+  // half_width_m of floor (the pixels it spans at the region's floor distance, at least 4, at
+  // most half_width_px). near_px in [1, 100], far_px in (near_px, 200], half_width_px in
+  // [4, 200], half_width_m in (0, 2].
   int near_px = 2;
   int far_px = 60;
   int half_width_px = 120;
-  // ... and at most half_width_m of floor across the ray (the pixels it spans at the region's
-  // floor distance); in (0, 2].
   double half_width_m = 0.3;
   // A pixel is judged when its horizontal Sobel gradient (stretched grey) reaches this; in
   // [1, 1020].
@@ -45,8 +45,9 @@ struct FloorStereoOptions {
   // A pixel is judged only where the two hypotheses put it this far apart in the other eye,
   // pixels; in [1, 20].
   double min_separation_px = 2.5;
-  // A judged pixel agrees when its grey lies within this many levels of the other eye's
-  // floor-warped grey at the same pixel or one pixel beside it (calibration slack); in [1, 255].
+  // A hypothesis agrees with a judged pixel when its grey lies within this many levels of the
+  // other eye's grey where the hypothesis puts the pixel, or one pixel beside it (calibration
+  // slack); in [1, 255].
   int max_difference = 30;
   // Judged pixels needed for a verdict; in [1, 10000].
   int min_judged = 16;

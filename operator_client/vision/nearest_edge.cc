@@ -288,7 +288,8 @@ Nep FindNearestEdgeOnPixels(const cv::Mat& edges, const RayPixels& ray,
   };
   // The floor test: the region beyond the edge at ray pixel i, from near_px ray pixels beyond it
   // up to the next edge pixel (at least 3 beyond: an edge curve may be that thick) or far_px,
-  // half_width_px across (every second pixel), judged against the other eye.
+  // every second ray pixel, and half_width_m of floor across (every second pixel), judged
+  // against the other eye.
   const FloorStereoOptions& floor_options = options.floor_stereo;
   const bool floor_test = floor != nullptr && floor_options.enabled;
   const auto on_floor = [&](size_t i, const Hit& edge) {
