@@ -13,6 +13,7 @@
 #include "operator_client/render/gl.h"
 #include "operator_client/render/screenshot.h"
 #include "operator_client/render/stereo_compositor.h"
+#include "operator_client/render/stereo_view.h"
 #include "operator_client/render/texture.h"
 #include "operator_client/ui/window.h"
 
@@ -334,6 +335,33 @@ TEST_F(RenderTest, SideBySideInPlaceScalesEachEyeIntoItsHalf) {
   const cv::Mat composed = Compose(DisplayMode::kSideBySideHalf);
   // Bilinear sampling of the image instead of the eye framebuffer: edges may differ by a pixel.
   EXPECT_LT(cv::mean(cv::abs(composed - in_place))[0], 1.0);
+}
+
+// StereoView picks the path by mode: mono in place (the window shows the eye, no compositor
+// pass needed), the colour anaglyph through the eye framebuffers and the compositor.
+TEST_F(RenderTest, StereoViewDrawsMonoInPlaceAndBlendsTheAnaglyph) {
+  StereoView view;
+  std::string error;
+  ASSERT_TRUE(view.Init(&error)) << error;
+  const cv::Mat white(480, 640, CV_8UC3, cv::Scalar(255, 255, 255));
+  const cv::Mat black(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  const EyeView eye_view = View(math::LaserCameraCalibration{});
+  const std::array<EyeInput, 2> eyes = {EyeInput{&white, eye_view, {}},
+                                        EyeInput{&black, eye_view, {}}};
+  view.DrawEyes(DisplayMode::kMonoRight, false, 640, 480, eyes, {});
+  EXPECT_LT(ReadFramebuffer(640, 480).at<cv::Vec3b>(240, 320)[0], 15) << "the right eye, black";
+  view.Compose(DisplayMode::kMonoRight, false, 640, 480);  // nothing to do: still the right eye
+  EXPECT_LT(ReadFramebuffer(640, 480).at<cv::Vec3b>(240, 320)[0], 15);
+  view.DrawEyes(DisplayMode::kAnaglyphColor, false, 640, 480, eyes, {});
+  view.Compose(DisplayMode::kAnaglyphColor, false, 640, 480);
+  const cv::Vec3b p = ReadFramebuffer(640, 480).at<cv::Vec3b>(240, 320);  // BGR
+  EXPECT_GT(p[2], 240) << "red from the white left eye";
+  EXPECT_LT(p[1], 15) << "cyan from the black right eye";
+  // No image: the grey background, drawn in place.
+  const std::array<EyeInput, 2> none = {EyeInput{nullptr, eye_view, {}},
+                                        EyeInput{nullptr, eye_view, {}}};
+  view.DrawEyes(DisplayMode::kMonoLeft, false, 640, 480, none, {});
+  EXPECT_NEAR(ReadFramebuffer(640, 480).at<cv::Vec3b>(240, 320)[0], 64, 3);
 }
 
 // The texture's level 0 as `format` (GL_BGR or GL_RED), rows as uploaded.

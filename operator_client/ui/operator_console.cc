@@ -29,7 +29,7 @@ OperatorConsole::OperatorConsole(const ConsoleOptions& options, Window* window,
 OperatorConsole::~OperatorConsole() = default;
 
 bool OperatorConsole::Init(std::string* error) {
-  if (!eyes_[0].Init(error) || !eyes_[1].Init(error) || !compositor_.Init(error)) return false;
+  if (!stereo_view_.Init(error)) return false;
   if (!options_.ar.IsValid(error) || !options_.motion.IsValid(error)) return false;
   ar_builders_.emplace(options_.ar);
   if (!options_.calibration.IsValid(error)) return false;
@@ -246,37 +246,18 @@ bool OperatorConsole::Frame() {
   sonar_unseen_ = sonar.unseen;
   const SteadyTime overlay_built = clock_->SteadyNow();
 
-  // Only the eyes the display mode shows are drawn (one in mono); where each eye has a region of
-  // its own, straight into the window (no compositor pass).
+  // Only the eyes the display mode shows are drawn (one in mono), in place where they can be.
   static const cv::Mat kEmpty;
-  const auto eye_image = [&](int e) -> const cv::Mat& {
-    return pair ? (e == 0 ? pair->left : pair->right) : kEmpty;
-  };
-  const auto eye_alignment = [&](int e) {
-    return ScaledAlignment(e == 0 ? options_.left_alignment : options_.right_alignment,
-                           image_scale_);
-  };
-  const bool in_place = render::DrawsEyesInPlace(options_.mode);
-  SteadyTime eyes_drawn;
-  if (in_place) {
-    render::StereoCompositor::ClearWindow(fb_w, fb_h);
-    for (const render::EyeViewport& v : render::EyeViewports(options_.mode, fb_w, fb_h)) {
-      const int e = v.eye == math::Eye::kLeft ? 0 : 1;
-      eyes_[e].RenderInto({v.x_px, v.GlY(fb_h), v.width_px, v.height_px}, eye_image(e),
-                          render::MakeEyeView(geometry_.eye(e)), overlay, eye_alignment(e));
-    }
-    eyes_drawn = clock_->SteadyNow();
-  } else {
-    const std::array<bool, 2> shown_eyes = render::EyesShown(options_.mode, window_->quad_buffer());
-    for (int e = 0; e < 2; ++e) {
-      if (!shown_eyes[static_cast<size_t>(e)]) continue;
-      eyes_[e].Render(eye_image(e), render::MakeEyeView(geometry_.eye(e)), overlay,
-                      eye_alignment(e));
-    }
-    eyes_drawn = clock_->SteadyNow();
-    compositor_.Compose(options_.mode, eyes_[0].texture(), eyes_[1].texture(), fb_w, fb_h,
-                        window_->quad_buffer());
+  std::array<render::EyeInput, 2> eye_inputs;
+  for (int e = 0; e < 2; ++e) {
+    eye_inputs[static_cast<size_t>(e)] = {
+        pair ? (e == 0 ? &pair->left : &pair->right) : &kEmpty,
+        render::MakeEyeView(geometry_.eye(e)),
+        ScaledAlignment(e == 0 ? options_.left_alignment : options_.right_alignment, image_scale_)};
   }
+  stereo_view_.DrawEyes(options_.mode, window_->quad_buffer(), fb_w, fb_h, eye_inputs, overlay);
+  const SteadyTime eyes_drawn = clock_->SteadyNow();
+  stereo_view_.Compose(options_.mode, window_->quad_buffer(), fb_w, fb_h);
   const SteadyTime composed = clock_->SteadyNow();
   imgui_->BeginFrame();
   DrawPanels(robot, features, sonar, pair, fb_w, fb_h);

@@ -19,7 +19,7 @@
 #include "operator_client/fusion/sonar_features.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/render/eye_renderer.h"
-#include "operator_client/render/stereo_compositor.h"
+#include "operator_client/render/stereo_view.h"
 #include "operator_client/ui/ar_builder_cache.h"
 #include "operator_client/ui/command_sender.h"
 #include "operator_client/ui/console_input.h"
@@ -177,8 +177,7 @@ class OperatorConsole {
   CommandSender* commands_;
   const Clock* clock_;
   std::unique_ptr<ImGuiLayer> imgui_;
-  render::EyeRenderer eyes_[2];
-  render::StereoCompositor compositor_;
+  render::StereoView stereo_view_;
   std::optional<ArBuilderCache> ar_builders_;  // from Init()
   ConsoleKeys keys_;
   DriveMapper mapper_;
