@@ -52,6 +52,12 @@ bool ValidateScene(const proto::Scene& scene, const std::string& name, std::stri
   if (f.black_squares_absorb() && f.pattern() != proto::Floor::CHECKERBOARD) {
     return Fail(name, "floor.black_squares_absorb", "needs pattern: CHECKERBOARD", error);
   }
+  for (int i = 0; i < scene.tape_size(); ++i) {
+    const auto& t = scene.tape(i);
+    if (std::hypot(t.x1_m() - t.x0_m(), t.y1_m() - t.y0_m()) < 1e-3) {
+      return Fail(name, Key("tape", i, "x1_m"), "tape has zero length", error);
+    }
+  }
   for (int i = 0; i < scene.wall_size(); ++i) {
     const auto& w = scene.wall(i);
     if (std::hypot(w.x1_m() - w.x0_m(), w.y1_m() - w.y0_m()) < 1e-3) {

@@ -3,8 +3,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 #include "robot_server/sim/sim_test_helpers.h"
 #include "robot_server/sim/sim_world.h"
+#include "robot_server/sim/world.h"
 
 namespace mostar::sim {
 namespace {
@@ -34,7 +39,8 @@ TEST_P(ShippedSceneTest, LoadsAndBuildsAWorld) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllScenes, ShippedSceneTest,
-                         ::testing::Values("corridor", "open_room", "checkerboard_room"));
+                         ::testing::Values("corridor", "open_room", "checkerboard_room",
+                                           "tiled_room"));
 
 TEST(SceneTest, MissingFileNamesTheFile) {
   proto::Scene scene;
@@ -76,6 +82,54 @@ TEST(SceneTest, ZeroLengthWallIsRejected) {
   EXPECT_FALSE(ParseScene("wall { x0_m: 1 y0_m: 1 x1_m: 1 y1_m: 1 }", "w.pbtxt", &scene, &error));
   EXPECT_THAT(error, HasSubstr("wall[0]"));
   EXPECT_THAT(error, HasSubstr("zero length"));
+}
+
+TEST(SceneTest, ZeroLengthTapeIsRejected) {
+  proto::Scene scene;
+  std::string error;
+  EXPECT_FALSE(ParseScene("tape { x0_m: 1 y0_m: 1 x1_m: 1 y1_m: 1 }", "t.pbtxt", &scene, &error));
+  EXPECT_THAT(error, HasSubstr("tape[0]"));
+}
+
+// TILES: joints `joint_m` wide centred on the tile borders in colour2, tiles within
+// tile_variation of colour; tape over the pattern, with square ends.
+TEST(SceneTest, TiledFloorHasJointsTilesAndTape) {
+  proto::Scene scene;
+  std::string error;
+  ASSERT_TRUE(ParseScene(
+      "floor { pattern: TILES square_m: 0.3 joint_m: 0.02 tile_variation: 0.2 "
+      "colour { r: 200 g: 200 b: 200 } colour2 { r: 50 g: 40 b: 30 } }\n"
+      "tape { x0_m: 1.0 y0_m: -1 x1_m: 1.0 y1_m: 1 width_m: 0.06 colour { r: 230 g: 190 b: 40 } }",
+      "tiles.pbtxt", &scene, &error))
+      << error;
+  const World world(scene);
+  bool inside = false, dark = false;
+  // On a border (x = 0.3), and within half a joint of it.
+  for (const double x : {0.3, 0.291, 0.309}) {
+    const Rgb joint = world.FloorAlbedo(x, 0.15, &inside, &dark);
+    EXPECT_TRUE(inside);
+    EXPECT_FLOAT_EQ(joint.r, 50) << x;
+    EXPECT_FLOAT_EQ(joint.b, 30) << x;
+  }
+  // Tile centres: colour x (1 +- 0.1), not all the same.
+  double lowest = 1e9, highest = 0;
+  for (int i = 0; i < 10; ++i) {
+    const Rgb tile = world.FloorAlbedo(0.15 + 0.3 * i, 0.45, &inside, &dark);
+    EXPECT_GE(tile.r, 180 - 1e-3);
+    EXPECT_LE(tile.r, 220 + 1e-3);
+    lowest = std::min<double>(lowest, tile.r);
+    highest = std::max<double>(highest, tile.r);
+  }
+  EXPECT_GT(highest - lowest, 5);
+  // The tape covers joints and tiles alike, 3 cm either side of its line, up to its ends.
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
+           {1.0, 0.0}, {1.029, 0.5}, {0.971, -0.99}, {1.0, 0.9}}) {
+    const Rgb tape = world.FloorAlbedo(x, y, &inside, &dark);
+    EXPECT_FLOAT_EQ(tape.g, 190) << x << " " << y;
+  }
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{{1.04, 0.0}, {1.0, 1.05}}) {
+    EXPECT_NE(world.FloorAlbedo(x, y, &inside, &dark).g, 190) << x << " " << y;
+  }
 }
 
 TEST(SceneTest, EmptyFloorIsRejected) {

@@ -235,7 +235,15 @@ World::World(const proto::Scene& scene) : scene_(scene) {
   floor_.colour2 = fl.has_colour2() ? ToRgb(fl.colour2()) : Rgb{25, 25, 25};
   floor_.joint_colour = Scale(floor_.colour, 0.86);
   floor_.per_square_m = 1.0 / floor_.square_m;
-  floor_.joint = 0.006 / floor_.square_m;
+  floor_.joint =
+      (fl.pattern() == proto::Floor::TILES ? 0.5 * fl.joint_m() : 0.006) / floor_.square_m;
+  floor_.tile_variation = fl.tile_variation();
+  for (const auto& t : scene.tape()) {
+    const double dx = t.x1_m() - t.x0_m(), dy = t.y1_m() - t.y0_m();
+    const double length_m = std::hypot(dx, dy);
+    tapes_.push_back({t.x0_m(), t.y0_m(), dx / length_m, dy / length_m, length_m, 0.5 * t.width_m(),
+                      t.has_colour() ? ToRgb(t.colour()) : Rgb{225, 190, 40}});
+  }
   floor_.light = lighting_.ambient + (1 - lighting_.ambient) * 0.5 * (1.0 + lighting_.lz);
 
   // Floor occlusion: distance from each floor cell to the nearest footprint standing on it.
@@ -374,17 +382,29 @@ inline const Rgb& World::FloorAlbedoAt(double x, double y, bool* dark_square,
   const FloorCache& f = floor_;
   *dark_square = false;
   *factor = 1.0;
+  for (const TapeStrip& tape : tapes_) {
+    const double rx = x - tape.x0_m, ry = y - tape.y0_m;
+    const double along = rx * tape.ux + ry * tape.uy;
+    if (along >= 0 && along <= tape.length_m &&
+        std::abs(rx * tape.uy - ry * tape.ux) <= tape.half_width_m) {
+      return tape.colour;
+    }
+  }
   switch (f.pattern) {
     case proto::Floor::PLAIN:
       return f.colour;
-    case proto::Floor::FAINT_PATTERN: {
+    case proto::Floor::FAINT_PATTERN:
+    case proto::Floor::TILES: {
+      // Joints centred on the tile borders, half on each side.
       const double ux = x * f.per_square_m, uy = y * f.per_square_m;
       const double ix = std::floor(ux), iy = std::floor(uy);
       const double fx = ux - ix, fy = uy - iy;
+      const bool tiles = f.pattern == proto::Floor::TILES;
       if (fx < f.joint || fx > 1 - f.joint || fy < f.joint || fy > 1 - f.joint) {
-        return f.joint_colour;
+        return tiles ? f.colour2 : f.joint_colour;
       }
-      *factor = 0.96 + 0.08 * TileHash(static_cast<int64_t>(ix), static_cast<int64_t>(iy));
+      const double hash = TileHash(static_cast<int64_t>(ix), static_cast<int64_t>(iy));
+      *factor = tiles ? 1.0 + f.tile_variation * (hash - 0.5) : 0.96 + 0.08 * hash;
       return f.colour;
     }
     case proto::Floor::CHECKERBOARD:

@@ -151,12 +151,19 @@ class World {
   // Floor, copied out of the proto for the per-pixel paths.
   struct FloorCache {
     double min_x_m, min_y_m, max_x_m, max_y_m, square_m;
-    double per_square_m;  // 1 / square_m
-    double joint;         // joint width in squares (FAINT_PATTERN)
+    double per_square_m;    // 1 / square_m
+    double joint;           // joint width in squares (FAINT_PATTERN, TILES)
+    double tile_variation;  // TILES: albedo spread between tiles
     proto::Floor::Pattern pattern;
     Rgb colour, colour2, joint_colour;
     double light;  // Lambert factor of the horizontal floor, before brightness
   } floor_;
+  // Tape on the floor: from (x0, y0) along the unit vector (ux, uy) for length_m.
+  struct TapeStrip {
+    double x0_m, y0_m, ux, uy, length_m, half_width_m;
+    Rgb colour;
+  };
+  std::vector<TapeStrip> tapes_;
   // Floor occlusion map: cell (row, col) covers [min_x + col*res, ...] x [min_y + row*res, ...].
   cv::Mat occlusion_;  // CV_32F
   double occlusion_res_m_ = 0.02;

@@ -43,7 +43,8 @@ double Ratio(int a, int b) { return b > 0 ? 100.0 * a / b : std::nan(""); }
 std::vector<GroundTruthScene> GroundTruthScenes() {
   return {{"open_room", "plain", 60, 200, 0},
           {"corridor", "faint pattern", 30, 105, 45},
-          {"checkerboard_room", "checkerboard", 60, 200, 0}};
+          {"checkerboard_room", "checkerboard", 60, 200, 0},
+          {"tiled_room", "tiles and tape", 60, 200, 0}};
 }
 
 double GroundTruthScore::MonoPrecision() const { return Ratio(mono_true, mono_dots); }

@@ -24,7 +24,8 @@ struct GroundTruthScene {
   int min_step_grey = 0;  // step test against thin floor lines (0 = off)
 };
 
-// The open room (plain floor), the corridor (faint tiles) and the checkerboard room.
+// The open room (plain floor), the corridor (faint tiles), the checkerboard room and the tiled
+// room (tiles with dark joints, tape, obstacles below the laser).
 std::vector<GroundTruthScene> GroundTruthScenes();
 
 // The frames scored and how the images are made.
