@@ -153,6 +153,7 @@ int Run(int argc, char** argv) {
   video.window_pairs = config.dds().video_window_pairs();
   video.lane_timeout = std::chrono::milliseconds(config.dds().video_lane_timeout_ms());
   video.repair_period = std::chrono::milliseconds(config.dds().video_repair_period_ms());
+  video.repair_deadline = std::chrono::milliseconds(config.dds().video_repair_deadline_ms());
   video.h264 = devices.camera_options.codec == camera::VideoCodec::kH264;
   // The role table's clients, each heard in its own partition (RobotNode).
   std::vector<RobotSender> senders;

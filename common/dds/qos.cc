@@ -92,9 +92,17 @@ fdds::DataWriterQos VideoWriterQos(std::chrono::milliseconds repair_period) {
   return qos;
 }
 
-fdds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period, int32_t depth) {
+fdds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period, int32_t depth,
+                                         std::chrono::milliseconds repair_deadline) {
   fdds::DataWriterQos qos = VideoWriterQos(repair_period);
   qos.history().depth = std::max<int32_t>(1, depth);
+  if (repair_deadline > std::chrono::milliseconds::zero()) {
+    // Fast DDS 2.9 removes expired samples from the writer's history on a timer (their source
+    // timestamp + lifespan: the writer's clock only); each reader proxy then gets a GAP for them.
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(repair_deadline).count();
+    qos.lifespan().duration = Duration_t(static_cast<int32_t>(ns / 1'000'000'000),
+                                         static_cast<uint32_t>(ns % 1'000'000'000));
+  }
   // Periodic heartbeats only. Once `depth` access units are held the history is full after
   // every write, and Fast DDS 2.9 would piggyback a heartbeat on every message it sends, repairs
   // included; each one makes a reader ask again for every fragment it still misses, also those

@@ -55,8 +55,15 @@ eprosima::fastdds::dds::DataReaderQos ReaderQos(Stream stream);
 // oldest, sees the gap in the AU numbers and asks for an IDR. Heartbeat every `repair_period`
 // and never after a write or a repair: a reader asks for what it misses once per period (see
 // VideoWriterQos on the round trip), not once per message (video_stream_qos_test.cc).
-eprosima::fastdds::dds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period,
-                                                           int32_t depth);
+// `repair_deadline` > 0 (a NACK deadline, as WebRTC's): an AU leaves the writer's history that
+// long after it was written (DDS lifespan, on the writer's own clock) and is no longer repaired;
+// a reader still missing part of it gets a GAP instead, delivers the AUs behind it at once and
+// sees the jump in the AU numbers (it asks for an IDR). Without one, a lost fragment holds every
+// later AU at the reader until it is repaired or `depth` newer AUs pushed it out. 0: no
+// deadline.
+eprosima::fastdds::dds::DataWriterQos VideoStreamWriterQos(
+    std::chrono::milliseconds repair_period, int32_t depth,
+    std::chrono::milliseconds repair_deadline = std::chrono::milliseconds::zero());
 eprosima::fastdds::dds::DataReaderQos VideoStreamReaderQos(int32_t depth);
 inline constexpr int32_t kVideoStreamDepth = 30;  // 1 s at 30 Hz
 

@@ -14,6 +14,7 @@
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -25,6 +26,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "common/dds/domain.h"
 #include "common/dds/qos.h"
@@ -37,10 +39,14 @@ namespace fdds = eprosima::fastdds::dds;
 namespace frtps = eprosima::fastrtps;
 using VideoType = mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType;
 
-// Loopback UDP only; `transport` carries this participant's traffic.
+// Loopback UDP only; `transport` carries this participant's traffic. A fixed participant id:
+// Fast DDS numbers participants on from the last one created in the process, and the initial
+// peer only reaches the first five ids (its ports).
 fdds::DomainParticipantQos LoopbackUdpQos(
-    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> transport) {
+    std::shared_ptr<eprosima::fastdds::rtps::TransportDescriptorInterface> transport,
+    int32_t participant_id) {
   fdds::DomainParticipantQos qos = fdds::PARTICIPANT_QOS_DEFAULT;
+  qos.wire_protocol().participant_id = participant_id;
   qos.transport().use_builtin_transports = false;
   qos.transport().user_transports.push_back(transport);
   frtps::rtps::Locator_t peer;
@@ -54,6 +60,9 @@ fdds::DomainParticipantQos LoopbackUdpQos(
 // writers have entity kinds 0xc2/0xc3; a user writer's kind has the two top bits clear).
 struct HeartbeatCountingSide {
   std::atomic<int> user_heartbeats{0};
+  // Every DATA of a user writer with this RTPS sequence number (1 = the first write) is lost,
+  // repairs included; 0: none.
+  std::atomic<uint32_t> lost_sequence_number{0};
   std::shared_ptr<eprosima::fastdds::rtps::test_UDPv4TransportDescriptor> Transport() {
     auto t = std::make_shared<eprosima::fastdds::rtps::test_UDPv4TransportDescriptor>();
     t->interfaceWhiteList.push_back("127.0.0.1");
@@ -61,6 +70,14 @@ struct HeartbeatCountingSide {
     t->drop_heartbeat_messages_filter_ = [this](frtps::rtps::CDRMessage_t& msg) {
       if (msg.pos + 8 <= msg.length && (msg.buffer[msg.pos + 7] & 0xc0) == 0) ++user_heartbeats;
       return false;  // never drop
+    };
+    // At the DATA's body: extraFlags, octetsToInlineQos (2 + 2), readerId (4), writerId (4, the
+    // kind last), writerSN (high, low: 4 + 4, little endian on this machine's participants).
+    t->drop_data_messages_filter_ = [this](frtps::rtps::CDRMessage_t& msg) {
+      if (msg.pos + 20 > msg.length || (msg.buffer[msg.pos + 11] & 0xc0) != 0) return false;
+      uint32_t low = 0;
+      for (int i = 3; i >= 0; --i) low = (low << 8) | msg.buffer[msg.pos + 16 + i];
+      return low == lost_sequence_number.load();
     };
     return t;
   }
@@ -77,8 +94,8 @@ class VideoStreamQosTest : public ::testing::Test {
     const int domain = PerProcessDomainId();
     auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
     udp->interfaceWhiteList.push_back("127.0.0.1");
-    writer_side_ = factory->create_participant(domain, LoopbackUdpQos(counting_.Transport()));
-    reader_side_ = factory->create_participant(domain, LoopbackUdpQos(udp));
+    writer_side_ = factory->create_participant(domain, LoopbackUdpQos(counting_.Transport(), 0));
+    reader_side_ = factory->create_participant(domain, LoopbackUdpQos(udp, 1));
     ASSERT_NE(writer_side_, nullptr);
     ASSERT_NE(reader_side_, nullptr);
   }
@@ -91,9 +108,10 @@ class VideoStreamQosTest : public ::testing::Test {
     }
   }
 
-  // Writes `count` frames at 100 Hz with `writer_qos` to a matched reader with the console's
-  // stream QoS; returns the user HEARTBEATs sent meanwhile and the frames received.
-  std::pair<int, int> WriteFrames(const fdds::DataWriterQos& writer_qos, int count) {
+  // A writer with `writer_qos` and a reader with the console's stream QoS on "rt/test/h264",
+  // matched (or a test failure).
+  std::pair<fdds::DataWriter*, fdds::DataReader*> MatchedPair(
+      const fdds::DataWriterQos& writer_qos) {
     fdds::TypeSupport w_type(new VideoType()), r_type(new VideoType());
     w_type.register_type(writer_side_);
     r_type.register_type(reader_side_);
@@ -107,13 +125,26 @@ class VideoStreamQosTest : public ::testing::Test {
                        ->create_datareader(r_topic, VideoStreamReaderQos(kVideoStreamDepth));
     EXPECT_NE(writer, nullptr);
     EXPECT_NE(reader, nullptr);
-    if (writer == nullptr || reader == nullptr) return {-1, -1};
+    if (writer == nullptr || reader == nullptr) return {writer, reader};
+    // Both sides: a reader that has not matched the writer yet drops what it sends.
     fdds::PublicationMatchedStatus matched;
-    for (int i = 0; i < 500 && matched.current_count == 0; ++i) {
+    fdds::SubscriptionMatchedStatus reader_matched;
+    for (int i = 0; i < 500 && (matched.current_count == 0 || reader_matched.current_count == 0);
+         ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       writer->get_publication_matched_status(matched);
+      reader->get_subscription_matched_status(reader_matched);
     }
     EXPECT_EQ(matched.current_count, 1) << "no match within 5 s";
+    EXPECT_EQ(reader_matched.current_count, 1) << "no match within 5 s";
+    return {writer, reader};
+  }
+
+  // Writes `count` frames at 100 Hz with `writer_qos` to a matched reader with the console's
+  // stream QoS; returns the user HEARTBEATs sent meanwhile and the frames received.
+  std::pair<int, int> WriteFrames(const fdds::DataWriterQos& writer_qos, int count) {
+    const auto [writer, reader] = MatchedPair(writer_qos);
+    if (writer == nullptr || reader == nullptr) return {-1, -1};
     const int before = counting_.user_heartbeats.load();
     mostar_msgs::msg::dds_::StereoVideoFrame_ frame;
     frame.left().assign(2000, 0x42);
@@ -137,6 +168,41 @@ class VideoStreamQosTest : public ::testing::Test {
       take();
     }
     return {counting_.user_heartbeats.load() - before, received};
+  }
+
+  // Writes `count` frames (AU numbers 0, 1, ...) every 20 ms with `writer_qos` to a matched
+  // reader with the console's stream QoS, then takes for `listen` more; returns the AU numbers
+  // taken, in order.
+  std::vector<uint64_t> TakenAus(fdds::DataWriterQos writer_qos, int count,
+                                 std::chrono::milliseconds listen) {
+    // Each AU in a datagram of its own: the asynchronous sender puts AUs that queued up together
+    // (a loaded machine) into one datagram, and the test transport then loses them all.
+    writer_qos.publish_mode().kind = fdds::SYNCHRONOUS_PUBLISH_MODE;
+    std::vector<uint64_t> taken_aus;
+    const auto [writer, reader] = MatchedPair(writer_qos);
+    if (writer == nullptr || reader == nullptr) return taken_aus;
+    mostar_msgs::msg::dds_::StereoVideoFrame_ frame;
+    frame.left().assign(2000, 0x42);
+    frame.right().assign(2000, 0x24);
+    fdds::SampleInfo info;
+    mostar_msgs::msg::dds_::StereoVideoFrame_ taken;
+    auto take = [&] {
+      while (reader->take_next_sample(&taken, &info) == ReturnCode_t::RETCODE_OK) {
+        if (info.valid_data) taken_aus.push_back(taken.sequence_number());
+      }
+    };
+    for (int i = 0; i < count; ++i) {
+      frame.sequence_number(static_cast<uint64_t>(i));
+      writer->write(&frame);
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      take();
+    }
+    const auto end = std::chrono::steady_clock::now() + listen;
+    while (std::chrono::steady_clock::now() < end) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      take();
+    }
+    return taken_aus;
   }
 
   HeartbeatCountingSide counting_;
@@ -163,6 +229,43 @@ TEST_F(VideoStreamQosTest, APiggybackingWriterSendsAHeartbeatWithEveryWriteOnceI
   const auto [heartbeats, received] = WriteFrames(piggybacking, 60);
   EXPECT_EQ(received, 60);
   EXPECT_GE(heartbeats, 20);
+}
+
+// A NACK deadline: AU 4 never gets through (its repairs are lost too). With a 100 ms repair
+// deadline it leaves the writer's history 100 ms after it was written, the reader gets a GAP
+// and takes the AUs behind it; AU 4 is never taken, which the console sees as a jump in the
+// AU numbers.
+TEST_F(VideoStreamQosTest, PastTheRepairDeadlineTheReaderSkipsAnAuItCannotGetAndTakesTheRest) {
+  counting_.lost_sequence_number = 5;  // RTPS numbers start at 1: AU 4
+  const std::vector<uint64_t> taken =
+      TakenAus(VideoStreamWriterQos(std::chrono::milliseconds(20), kVideoStreamDepth,
+                                    std::chrono::milliseconds(100)),
+               10, std::chrono::seconds(2));
+  EXPECT_EQ(std::count(taken.begin(), taken.end(), 4u), 0);
+  for (uint64_t au : {0u, 1u, 2u, 3u, 5u, 6u, 7u, 8u, 9u}) {
+    EXPECT_EQ(std::count(taken.begin(), taken.end(), au), 1) << "AU " << au;
+  }
+  EXPECT_TRUE(std::is_sorted(taken.begin(), taken.end()));
+}
+
+// The control: without a deadline the writer keeps AU 4 (10 AUs are fewer than the history's
+// 30) and repairs it every period; every repair is lost, so the reader holds everything behind
+// it and takes only AUs 0-3.
+TEST_F(VideoStreamQosTest, WithoutARepairDeadlineAnAuThatCannotBeRepairedHoldsEveryLaterOne) {
+  counting_.lost_sequence_number = 5;
+  const std::vector<uint64_t> taken =
+      TakenAus(VideoStreamWriterQos(std::chrono::milliseconds(20), kVideoStreamDepth), 10,
+               std::chrono::seconds(1));
+  EXPECT_EQ(taken, (std::vector<uint64_t>{0, 1, 2, 3}));
+}
+
+TEST(VideoStreamWriterQos, TheRepairDeadlineIsTheWritersLifespan) {
+  EXPECT_EQ(VideoStreamWriterQos(std::chrono::milliseconds(50), 30).lifespan().duration,
+            eprosima::fastrtps::c_TimeInfinite);
+  const auto qos =
+      VideoStreamWriterQos(std::chrono::milliseconds(50), 30, std::chrono::milliseconds(1250));
+  EXPECT_EQ(qos.lifespan().duration.seconds, 1);
+  EXPECT_EQ(qos.lifespan().duration.nanosec, 250'000'000u);
 }
 
 }  // namespace

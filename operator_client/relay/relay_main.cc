@@ -200,6 +200,12 @@ int Main(int argc, char** argv) {
                  "heartbeat period of the forwarded H.264 stream towards viewers: about their "
                  "round trip (the Internet recipe: 250), as the robot's dds.video_repair_period_ms")
       ->check(CLI::Range(10, 2000));
+  int video_repair_deadline_ms = 0;
+  app.add_option("--video-repair-deadline-ms", video_repair_deadline_ms,
+                 "the forwarded H.264 stream: an AU is repaired for at most this long after the "
+                 "relay wrote it, then viewers skip it and ask for an IDR (0: until 30 newer AUs "
+                 "push it out), as the robot's dds.video_repair_deadline_ms")
+      ->check(CLI::Range(0, 10000));
   bool insecure = false;
   app.add_flag("--insecure", insecure,
                "allow a network DDS profile without DDS Security (docs/security.md)");
@@ -287,7 +293,8 @@ int Main(int argc, char** argv) {
       std::make_unique<Forwarder<mostar_msgs::msg::dds_::StereoVideoFrame_PubSubType>>(
           *robot_side, *observer_side, topics::kCameraStereoVideo,
           dds::VideoStreamWriterQos(std::chrono::milliseconds(video_repair_period_ms),
-                                    dds::kVideoStreamDepth),
+                                    dds::kVideoStreamDepth,
+                                    std::chrono::milliseconds(video_repair_deadline_ms)),
           dds::VideoStreamReaderQos(dds::kVideoStreamDepth),
           [&arrivals_mutex, &arrivals](const dds::wire::StereoVideoFrame& frame) {
             const SteadyTime now = SystemClock::Instance().SteadyNow();

@@ -33,8 +33,12 @@ bool LinkRateOptions::IsValid(std::string* error) const {
     *error = "link rate: need 0 <= normal_queue_ms < overuse_queue_ms <= skip_queue_ms";
     return false;
   }
+  if (!(silence_backoff > 0 && silence_backoff < 1)) {
+    *error = "link rate: silence_backoff in (0, 1)";
+    return false;
+  }
   if (decrease_interval <= Duration::zero() || capacity_memory <= Duration::zero() ||
-      base_window <= Duration::zero()) {
+      base_window <= Duration::zero() || silence_after <= Duration::zero()) {
     *error = "link rate: intervals must be positive";
     return false;
   }
@@ -86,6 +90,33 @@ uint64_t SentFrames::BitsAfter(uint64_t sequence) const {
   return bits;
 }
 
+std::optional<SteadyTime> SentFrames::FirstSentAfter(uint64_t sequence) const {
+  const auto it =
+      std::upper_bound(frames_.begin(), frames_.end(), sequence,
+                       [](uint64_t s, const auto& frame) { return s < std::get<0>(frame); });
+  if (it == frames_.end()) return std::nullopt;
+  return std::get<1>(*it);
+}
+
+double LinkRateController::OnSilence(const SentFrames& sent, SteadyTime now) {
+  // Only once the viewer has reported frames: before that the start rate applies.
+  if (!last_arrivals_ || !last_sequence_) return stats_.target_bits_per_s;
+  const std::optional<SteadyTime> unreported = sent.FirstSentAfter(*last_sequence_);
+  if (!unreported || now - *unreported < options_.silence_after ||
+      now - *last_arrivals_ < options_.silence_after) {
+    return stats_.target_bits_per_s;
+  }
+  if (last_decrease_ && now - *last_decrease_ < options_.decrease_interval) {
+    return stats_.target_bits_per_s;
+  }
+  double& target = stats_.target_bits_per_s;
+  target = std::max(options_.min_bits_per_s, target * options_.silence_backoff);
+  last_decrease_ = now;
+  ++stats_.decreases;
+  ++stats_.silence_decreases;
+  return target;
+}
+
 double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
                                       const SentFrames& sent, SteadyTime now) {
   for (const FrameArrival& arrival : arrivals) {
@@ -101,6 +132,7 @@ double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
       }
       held_.emplace(arrival, *at);
       last_sent_ = *at;
+      last_arrivals_ = now;
     }
     ++reported_;
     if (last_sequence_) expected_ += arrival.sequence - *last_sequence_;

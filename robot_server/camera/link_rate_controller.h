@@ -28,6 +28,12 @@
 // estimate run away).
 // Loss-based part: frames missing from the reports (AU numbers skipped) above 10 % cut the
 // target by half the loss fraction; below 2 % they do not hold it back.
+// Silence (OnSilence): a viewer reports only while frames reach it, so when a link loses so much
+// capacity that every frame loses a packet, or the frames wait behind one that cannot be
+// repaired, the reports stop and neither part above hears anything. Frames written
+// `silence_after` ago and still not reported then halve the target, again every
+// `decrease_interval` while it lasts (libwebrtc likewise lowers its estimate when feedback stops
+// coming).
 // Not thread-safe: VideoRateControl serialises.
 #pragma once
 
@@ -60,6 +66,10 @@ struct LinkRateOptions {
   double normal_queue_ms = 20;   // below it the rate may grow
   double skip_queue_ms = 150;    // frames are skipped at the source above it
   Duration base_window = std::chrono::seconds(10);
+  // Longer than a repair holds frames (a heartbeat period and a round trip; the Internet recipe:
+  // 250 + 100 ms) plus a report period (50 ms), so that a repaired loss is not read as silence.
+  Duration silence_after = std::chrono::milliseconds(500);
+  double silence_backoff = 0.5;  // x target per decrease_interval of silence
   bool IsValid(std::string* error) const;
 };
 
@@ -76,7 +86,8 @@ struct LinkRateStats {
   LinkUsage usage = LinkUsage::kNormal;
   uint64_t overuse_reports = 0;
   uint64_t decreases = 0;
-  uint64_t held_back = 0;  // frames released together with a later one: no delay sample
+  uint64_t held_back = 0;          // frames released together with a later one: no delay sample
+  uint64_t silence_decreases = 0;  // of `decreases`, made because no frame was reported
 };
 
 // The robot's record of the frames it wrote: AU number -> (send time, bytes), the newest
@@ -88,6 +99,8 @@ class SentFrames {
   std::optional<SteadyTime> SendTime(uint64_t sequence) const;
   // Bits of the frames written after `sequence`.
   uint64_t BitsAfter(uint64_t sequence) const;
+  // When the first frame after `sequence` was written; nullopt when none was.
+  std::optional<SteadyTime> FirstSentAfter(uint64_t sequence) const;
 
  private:
   const size_t capacity_;
@@ -106,6 +119,9 @@ class LinkRateController {
   // Returns the new target, bit/s.
   double OnFeedback(const std::vector<FrameArrival>& arrivals, const SentFrames& sent,
                     SteadyTime now);
+  // Called for every frame the encoder is about to write, reports or not: the silence rule
+  // (see the top of this file). Returns the target, bit/s.
+  double OnSilence(const SentFrames& sent, SteadyTime now);
   const LinkRateStats& stats() const { return stats_; }
   // Whether the encoder should skip the frame it would write at `now`: the queue it would meet
   // is over `skip_queue_ms` (after a drop in capacity the frames already queued are late
@@ -149,7 +165,8 @@ class LinkRateController {
   // (arrival ns, throughput), a monotonic deque over 2 s: its front is the peak delivery rate.
   std::deque<std::pair<int64_t, double>> peak_rates_;
   std::optional<uint64_t> last_sequence_;
-  std::optional<SteadyTime> last_sent_;                      // send time of the last frame reported
+  std::optional<SteadyTime> last_sent_;      // send time of the last frame reported
+  std::optional<SteadyTime> last_arrivals_;  // robot time of the last report with a new frame
   std::optional<std::pair<FrameArrival, SteadyTime>> held_;  // newest frame, its delay not used yet
   uint64_t reported_ = 0;
   uint64_t expected_ = 0;

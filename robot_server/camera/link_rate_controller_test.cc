@@ -32,6 +32,11 @@ struct LinkSimulation {
   double encoder_bps = 0;
   int big_every = 0;
   double big_factor = 4;
+  // Reports due in [silent_from_s, silent_to_s) never reach the robot (the viewer receives
+  // nothing to report). The robot calls LinkRateController::OnSilence before every frame.
+  double silent_from_s = -1;
+  double silent_to_s = -1;
+  bool call_on_silence = true;
 
   struct Sample {
     double t = 0;              // send time, s
@@ -61,9 +66,12 @@ struct LinkSimulation {
             ++it;
           }
         }
-        controller->OnFeedback(report, sent, origin + FromSeconds(next_feedback_s + one_way_s));
+        if (next_feedback_s < silent_from_s || next_feedback_s >= silent_to_s) {
+          controller->OnFeedback(report, sent, origin + FromSeconds(next_feedback_s + one_way_s));
+        }
         next_feedback_s += feedback_period_s;
       }
+      if (call_on_silence) controller->OnSilence(sent, origin + FromSeconds(t));
       const double target = controller->stats().target_bits_per_s;
       if (controller->ShouldSkipFrame(sent, origin + FromSeconds(t))) {
         ++skipped;
@@ -189,6 +197,61 @@ TEST(LinkRateControllerTest, FollowsAStepDownAndBackUp) {
       "%d frames skipped\n",
       down, TimeAbove(samples, 10, 20, 0.150), MeanTarget(samples, 13, 20) / 1e6, up,
       MeanTarget(samples, 24, 30) / 1e6, link.skipped);
+}
+
+// Target (bit/s) of the last frame sent before `t`.
+double TargetAt(const std::vector<LinkSimulation::Sample>& samples, double t) {
+  double target = 0;
+  for (const auto& s : samples) {
+    if (s.t < t) target = s.target;
+  }
+  return target;
+}
+
+// The console reports only while frames reach it. On the real path (bitrate_step_bench) a step
+// 8 -> 2 Mbit/s filled the relay's 200 ms tail-drop queue before a report came back; from then
+// on every frame lost a fragment, the frames waited behind it, and the console fell silent for
+// the whole 2 Mbit/s phase: the target stayed where the last report left it, above the link,
+// and after 2 s the robot forgot the viewer and wrote a quarter of its class, still above it.
+// Here the viewer's reports stop for 3 s on a steady link: from 500 ms of silence the target
+// halves every 300 ms down to the floor, and when the reports come back it grows again.
+TEST(LinkRateControllerTest, ASilentViewerHalvesTheTargetUntilItReportsAgain) {
+  for (const bool on_silence : {true, false}) {
+    LinkRateOptions options;
+    options.max_bits_per_s = 16e6;
+    LinkRateController controller(options);
+    LinkSimulation link;
+    link.capacity_bps = [](double) { return 8e6; };
+    link.feedback_period_s = 0.05;
+    link.silent_from_s = 10;
+    link.silent_to_s = 13;
+    link.call_on_silence = on_silence;
+    const auto samples = link.Run(&controller, 25);
+    const double before = TargetAt(samples, 10.1);  // after the last report (9.95 s + one way)
+    std::printf(
+        "reports stop at 10 s for 3 s, silence rule %s: target %.2f Mbit/s at 10.1 s, %.2f at "
+        "10.5, %.2f at 10.7, %.2f at 11.0, %.2f at 13.0; mean %.2f Mbit/s (18-25 s); %llu "
+        "silence decreases\n",
+        on_silence ? "on" : "off", before / 1e6, TargetAt(samples, 10.5) / 1e6,
+        TargetAt(samples, 10.7) / 1e6, TargetAt(samples, 11.0) / 1e6, TargetAt(samples, 13.0) / 1e6,
+        MeanTarget(samples, 18, 25) / 1e6,
+        static_cast<unsigned long long>(controller.stats().silence_decreases));
+    ASSERT_GT(before, 4e6);
+    if (!on_silence) {
+      // What happened on the real path: nothing lowers the target while the viewer is silent.
+      EXPECT_EQ(TargetAt(samples, 13.0), before);
+      EXPECT_EQ(controller.stats().silence_decreases, 0u);
+      continue;
+    }
+    // The last report with frames came at about 10 s (+ one way): no decrease within 450 ms of
+    // it, half by 700 ms, a quarter by 1 s, the floor by the end of the silence.
+    EXPECT_EQ(TargetAt(samples, 10.45), before);
+    EXPECT_LE(TargetAt(samples, 10.7), 0.5 * before + 1);
+    EXPECT_LE(TargetAt(samples, 11.0), 0.25 * before + 1);
+    EXPECT_EQ(TargetAt(samples, 13.0), options.min_bits_per_s);
+    EXPECT_GE(controller.stats().silence_decreases, 4u);
+    EXPECT_GE(MeanTarget(samples, 18, 25), 0.7 * 8e6) << "grows again once reports come back";
+  }
 }
 
 // Repairs are not queueing: one frame in 15 lost and repaired 300 ms later, the frames behind it

@@ -48,15 +48,24 @@ double VideoRateControl::Target(double class_target, SteadyTime now) {
   std::lock_guard<std::mutex> lock(mutex_);
   double target = class_target > 0 ? class_target : 0;
   bool heard = false;
-  for (const auto& [id, viewer] : viewers_) {
-    if (now - viewer.last_report > options_.viewer_timeout) continue;
+  double silent_cap = 0;  // lowest target of the viewers silent beyond the timeout (0: none)
+  for (auto& [id, viewer] : viewers_) {
+    if (now - viewer.last_report > options_.silent_cap) continue;
+    const double t = viewer.controller.OnSilence(sent_, now);
+    if (now - viewer.last_report > options_.viewer_timeout) {
+      silent_cap = silent_cap > 0 ? std::min(silent_cap, t) : t;
+      continue;
+    }
     heard = true;
-    const double t = viewer.controller.stats().target_bits_per_s;
     target = target > 0 ? std::min(target, t) : t;
   }
   // Nobody has told the link yet (start, or every viewer quiet after an outage): start low
-  // rather than fill a link of unknown size (see unreported_fraction).
-  if (!heard && target > 0) target *= options_.unreported_fraction;
+  // rather than fill a link of unknown size (see unreported_fraction), and below what starved
+  // the viewers that went quiet.
+  if (!heard) {
+    if (target > 0) target *= options_.unreported_fraction;
+    if (silent_cap > 0) target = target > 0 ? std::min(target, silent_cap) : silent_cap;
+  }
   return target;
 }
 
@@ -105,10 +114,11 @@ std::string VideoRateControl::Describe(SteadyTime now) {
     char line[256];
     std::snprintf(line, sizeof(line),
                   "%s%s: target %.2f Mbit/s, received %.2f Mbit/s, queue %.0f ms (%s), "
-                  "%llu decreases, %llu held back",
+                  "%llu decreases (%llu in silence), %llu held back",
                   out.empty() ? "" : "; ", id.substr(0, 64).c_str(), s.target_bits_per_s / 1e6,
                   s.throughput_bits_per_s / 1e6, s.predicted_queue_ms, LinkUsageName(s.usage),
                   static_cast<unsigned long long>(s.decreases),
+                  static_cast<unsigned long long>(s.silence_decreases),
                   static_cast<unsigned long long>(s.held_back));
     out += line;
   }

@@ -32,6 +32,11 @@ struct VideoRateControlOptions {
   // of an 8 Mbit/s class, two copies filled an 8 Mbit/s downlink after a robot_server restart
   // until the first reports came: docs/networking.md).
   double unreported_fraction = 0.25;
+  // A viewer silent for longer than viewer_timeout but less than this (its link lost so much
+  // that no frame got through, or an outage) still caps that fallback at its own target, which
+  // the silence rule keeps lowering (LinkRateController::OnSilence): the quarter of the class
+  // would otherwise be written into the link that just starved it.
+  Duration silent_cap = std::chrono::seconds(10);
 };
 
 struct VideoRateStats {
@@ -52,8 +57,10 @@ class VideoRateControl {
   void OnFrameSent(uint64_t sequence, SteadyTime now, uint32_t bytes);
   // A viewer's report (DDS thread).
   void OnFeedback(const VideoFeedback& feedback, SteadyTime now);
-  // The target for the next frame: the lowest viewer's; with no viewer heard from within the
-  // timeout, `class_target` times unreported_fraction (<= 0: unlimited, returned as 0).
+  // The target for the next frame: the lowest viewer's (each first lowered by its silence, if
+  // any); with no viewer heard from within the timeout, `class_target` times
+  // unreported_fraction (<= 0: unlimited, returned as 0), at most the lowest target of the
+  // viewers heard from within silent_cap.
   double Target(double class_target, SteadyTime now);
   // Skip the frame the encoder would write now (some viewer's queue is too long), but never for
   // longer than max_skip in a row.

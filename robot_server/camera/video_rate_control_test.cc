@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace mostar::camera {
 namespace {
 
@@ -46,10 +48,37 @@ TEST(VideoRateControlTest, TheSlowestViewerSetsTheTargetUntilItGoesQuiet) {
   const double target = control.Target(8e6, now);
   EXPECT_LT(target, 8e6 * 0.9);
   EXPECT_TRUE(control.ShouldSkipFrame(now));
-  // Two seconds later without reports the slow viewer no longer counts: back to the start.
+  // Two seconds later without reports the slow viewer no longer counts: the start's quarter of
+  // the class, but for silent_cap no more than the target of the viewers that went quiet.
+  const double slow = target;
   EXPECT_EQ(control.Target(8e6, now + std::chrono::seconds(3)),
-            8e6 * VideoRateControlOptions().unreported_fraction);
+            std::min(slow, 8e6 * VideoRateControlOptions().unreported_fraction));
   EXPECT_FALSE(control.ShouldSkipFrame(now + std::chrono::seconds(3)));
+  EXPECT_EQ(control.Target(8e6, now + std::chrono::seconds(11)),
+            8e6 * VideoRateControlOptions().unreported_fraction);
+}
+
+// A viewer that stops reporting while frames keep going out gets none of them: its target halves
+// (LinkRateController::OnSilence), and the quarter of the class that applies once it no longer
+// counts is held below that.
+TEST(VideoRateControlTest, FramesSentIntoASilenceLowerTheTarget) {
+  VideoRateControl control;
+  control.SetClassTarget(16e6);
+  for (uint64_t n = 1; n <= 60; ++n) control.OnFrameSent(n, kT0 + milliseconds(33 * n), 20'000);
+  const SteadyTime last_report = kT0 + milliseconds(33 * 60 + 60);
+  control.OnFeedback(Report("pilot", 1, 60, 50, 0), last_report);
+  const double reported = control.Target(16e6, last_report);
+  double target = reported;
+  for (uint64_t n = 61; n <= 150; ++n) {  // 3 s of frames, no report
+    const SteadyTime now = kT0 + milliseconds(33 * n);
+    target = control.Target(16e6, now);
+    control.OnFrameSent(n, now, 20'000);
+    if (now - last_report < milliseconds(450)) {
+      EXPECT_EQ(target, reported);
+    }
+  }
+  EXPECT_EQ(target, LinkRateOptions().min_bits_per_s);
+  EXPECT_LT(target, 16e6 * VideoRateControlOptions().unreported_fraction);
 }
 
 // Only frames sent measure the link: after an outage the frames that waited it out report

@@ -93,6 +93,10 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
     if (error) *error = "the video repair period must be positive";
     return nullptr;
   }
+  if (video.repair_deadline < std::chrono::milliseconds::zero()) {
+    if (error) *error = "the video repair deadline must not be negative";
+    return nullptr;
+  }
   std::unique_ptr<RobotNode> node(new RobotNode());
   node->clock_ = clock;
   node->participant_ = participant;
@@ -132,7 +136,9 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
   if (video.h264) {
     node->stereo_video_ = std::make_unique<decltype(node->stereo_video_)::element_type>(
         p, topics::kCameraStereoVideo,
-        dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth), [self](int change) {
+        dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth,
+                                  video.repair_deadline),
+        [self](int change) {
           // Each reader is one copy of the stream up the robot's uplink (viewers behind
           // mostar_relay are not readers here).
           const int readers = self->h264_readers_.fetch_add(change) + change;
@@ -150,7 +156,8 @@ std::unique_ptr<RobotNode> RobotNode::Create(dds::Participant* participant,
       (eye == Eye::kLeft ? node->left_video_ : node->right_video_) =
           std::make_unique<decltype(node->left_video_)::element_type>(
               p, eye == Eye::kLeft ? topics::kCameraLeftVideo : topics::kCameraRightVideo,
-              dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth),
+              dds::VideoStreamWriterQos(video.repair_period, dds::kVideoStreamDepth,
+                                        video.repair_deadline),
               [self](int change) {
                 if (change > 0 && self->callbacks_.on_keyframe_request) {
                   KeyframeRequest join;

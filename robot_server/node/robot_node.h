@@ -62,6 +62,9 @@ struct RobotVideoOptions {
   // Heartbeat period of the video writers (dds::VideoWriterQos): about the round trip on long
   // links; > 0.
   std::chrono::milliseconds repair_period = dds::kDefaultVideoRepairPeriod;
+  // H.264 stream only: an AU is repaired for at most this long after it was written
+  // (dds::VideoStreamWriterQos); 0: until the history rolls over.
+  std::chrono::milliseconds repair_deadline{0};
   // The camera sends H.264: create the stream's writers (stereo and Foxglove) and the readers of
   // keyframe requests and receive reports. Without it PublishStereoVideo returns false.
   bool h264 = false;

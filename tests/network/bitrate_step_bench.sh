@@ -16,8 +16,9 @@
 # after which every bin has age p95 <= one-way + 100 ms); then the bins, one per second.
 #
 # Usage: bitrate_step_bench.sh ROBOT_SERVER OPERATOR_CLIENT NETEM_RELAY SOURCE_DIR
-# Environment: RATES ("8000 2000 8000"), PHASE_S (20), CODEC (jpeg or h264), KEEP_WORK=1 keeps
-# the traces and logs.
+# Environment: RATES ("8000 2000 8000"), PHASE_S (20), CODEC (jpeg or h264), LOSS (packet loss
+# probability each way, 0), REPAIR_DEADLINE_MS (h264: the robot's dds.video_repair_deadline_ms;
+# unset: the configuration's), KEEP_WORK=1 keeps the traces and logs.
 # Needs root (network namespaces, TUN), xvfb-run and python3; exit 77 (skipped) without them.
 set -euo pipefail
 [ $# -eq 4 ] || {
@@ -48,6 +49,9 @@ esac
 sed -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
   -e 's/initial_class: "wan"/initial_class: "lan"/' \
   "$src/deploy/config/$server_config" > "$work/server.pbtxt"
+if [ -n "${REPAIR_DEADLINE_MS:-}" ]; then
+  echo "dds { video_repair_deadline_ms: $REPAIR_DEADLINE_MS }" >> "$work/server.pbtxt"
+fi
 
 steps=""; at=$lead_s
 for ((i = 1; i < ${#rates[@]}; i++)); do
@@ -55,10 +59,10 @@ for ((i = 1; i < ${#rates[@]}; i++)); do
 done
 total=$((lead_s + phase_s * ${#rates[@]}))
 domain=$((100 + RANDOM % 100))
-"$netem_relay" --netns-a "$rns" --netns-b "$ons" --delay-ms 50 --jitter-ms 5 \
+"$netem_relay" --netns-a "$rns" --netns-b "$ons" --delay-ms 50 --jitter-ms 5 --loss "${LOSS:-0}" \
   --rate-kbit "${rates[0]}" ${steps:+--rate-steps "$steps"} --duration-s $((total + 30)) \
   > "$work/netem.log" 2>&1 &
-pids+=($!)
+netem_pid=$!; pids+=("$netem_pid")
 for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
 grep -q ready "$work/netem.log" || { cat "$work/netem.log" >&2; exit 1; }
 start_ns=$(date +%s%N)  # the relay's clock for --rate-steps starts with "ready"
@@ -72,8 +76,10 @@ ip netns exec "$ons" xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$operator
   --trace "$work/client.csv" > "$work/client.log" 2>&1 &
 client_pid=$!; pids+=("$client_pid")
 wait "$client_pid" || true
+kill -TERM "$netem_pid" 2>/dev/null || true  # it prints its counters as it stops
+wait "$netem_pid" 2>/dev/null || true
 
-echo "bitrate_step_bench: $codec, link ${rates[*]} kbit/s, ${phase_s} s each, 50 ms one-way; $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
+echo "bitrate_step_bench: $codec, link ${rates[*]} kbit/s, ${phase_s} s each, 50 ms one-way, loss ${LOSS:-0}${REPAIR_DEADLINE_MS:+, repair deadline $REPAIR_DEADLINE_MS ms}; $(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg)"
 python3 - "$work/client.csv" "$start_ns" "$lead_s" "$phase_s" "${rates[@]}" <<'EOF'
 import sys
 path, start_ns, lead_s, phase_s = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
@@ -114,3 +120,7 @@ print("second,link_kbit,pairs,age_p50_ms,age_p95_ms")
 for t, rate, n, p50, p95 in bins:
     print(f"{t:.0f},{rate:.0f},{n},{p50 * 1e3:.0f},{p95 * 1e3:.0f}")
 EOF
+# What the loss cost: the pilot's gaps, keyframe requests and stale time, the relay's drops.
+echo
+echo "pilot: $(grep -o -E '(video_frames|video_gaps|video_errors|keyframe_requests)=[0-9]+' "$work/client.log" | tail -4 | tr '\n' ' ')"
+echo "netem_relay: $(grep -o -E '(lost|queue_drops)=[0-9]+' "$work/netem.log" | tail -4 | tr '\n' ' ')"
