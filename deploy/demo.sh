@@ -8,7 +8,7 @@
 #
 # Environment: BUILD_DIR (default build), DEMO_SECONDS (default 15), DISPLAY_MODE
 # (default mono-left; see operator_client --help), SCENE (default deploy/scenes/corridor.pbtxt;
-# also open_room.pbtxt and checkerboard_room.pbtxt).
+# also open_room.pbtxt, checkerboard_room.pbtxt and tiled_room.pbtxt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./deploy/install-deps.sh
