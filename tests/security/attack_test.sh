@@ -247,7 +247,10 @@ for mode in $modes; do
     'robot_line $mode | grep -q "alive=yes" && awk -v s="$(robot_line $mode | sed -n "s/.*health_age_s=\([0-9.]*\).*/\1/p")" "BEGIN { exit !(s != \"\" && s < 2) }"'
 done
 if [ "$failures" -ne 0 ]; then
-  for mode in $modes; do echo "--- $mode robot log"; tail -15 "$work/$mode.robot.log"; done
+  for mode in $modes; do
+    echo "--- $mode robot log"; tail -15 "$work/$mode.robot.log"
+    echo "--- $mode pilot (alice) log"; grep -v -e SECURITY -e "-> Function" "$work/$mode.alice.log" | tail -15
+  done
   exit 1
 fi
 echo "attack_test: all checks passed"

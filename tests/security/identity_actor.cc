@@ -155,7 +155,13 @@ int Run(int argc, char** argv) {
   const auto wait = std::chrono::seconds(15);
   if (!WaitMatched(command_writer, wait) || !WaitMatched(request_writer, wait) ||
       !WaitMatched(estop_writer, wait) || !WaitMatched(ping_writer, wait)) {
-    std::cerr << "identity_actor: the robot's readers were not matched\n";
+    const auto count = [](const auto& writer) {
+      return writer ? std::to_string(writer->matched()) : std::string("-");
+    };
+    std::cerr << "identity_actor: the robot's readers were not matched (readers matched: cmd_vel "
+              << count(command_writer) << ", control request " << count(request_writer)
+              << ", estop " << count(estop_writer) << ", clock ping " << count(ping_writer)
+              << ")\n";
     return 1;
   }
   if (!move_to.empty()) {
