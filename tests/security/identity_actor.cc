@@ -95,11 +95,7 @@ int Run(int argc, char** argv) {
   options.name = "operator";
   options.insecure = insecure;
   std::string error;
-  auto participant = dds::Participant::Create(options, &error);
-  if (!participant) {
-    std::cerr << "identity_actor: " << error << "\n";
-    return 1;
-  }
+  std::unique_ptr<dds::Participant> participant;
   const bool commands = !initial.commands.empty() || stdin_plan;
   const bool estops = !initial.estop.empty() || stdin_plan;
   using CommandWriter = dds::Writer<mostar_msgs::msg::dds_::VelocityCommand_PubSubType>;
@@ -110,60 +106,86 @@ int Run(int argc, char** argv) {
   std::unique_ptr<RequestWriter> request_writer;
   std::unique_ptr<EstopWriter> estop_writer;
   std::unique_ptr<PingWriter> ping_writer;
-  // The writers take the publisher's partition (no partition of their own), so that it can be
-  // changed after they are created.
-  const std::string own_id =
-      participant->own_client_id().empty() ? sender_id : participant->own_client_id();
-  if (!identity::IsValidClientId(own_id) ||
-      (!move_to.empty() && !identity::IsValidClientId(move_to))) {
-    std::cerr << "identity_actor: invalid client id\n";
-    return 2;
-  }
+  std::string own_id;
   const auto set_partition = [&](const std::string& client_id) {
     eprosima::fastdds::dds::PublisherQos qos = participant->publisher()->get_qos();
     qos.partition().clear();
     qos.partition().push_back(identity::SenderPartition(client_id).c_str());
     return participant->publisher()->set_qos(qos) == ReturnCode_t::RETCODE_OK;
   };
-  if (!set_partition(own_id)) {
-    std::cerr << "identity_actor: cannot set the publisher's partition\n";
-    return 1;
-  }
-  if (commands) {
-    command_writer =
-        std::make_unique<CommandWriter>(*participant, topics::kCommand, Stream::kCommand);
-  }
-  if (take || release) {
-    request_writer =
-        std::make_unique<RequestWriter>(*participant, topics::kControlRequest, Stream::kControl);
-  }
-  if (estops) {
-    estop_writer =
-        std::make_unique<EstopWriter>(*participant, topics::kEmergencyStop, Stream::kControl);
-  }
-  if (pings) {
-    ping_writer = std::make_unique<PingWriter>(*participant, topics::kClockPing, Stream::kControl);
-  }
-  for (const bool ok :
-       {!command_writer || command_writer->ok(), !request_writer || request_writer->ok(),
-        !estop_writer || estop_writer->ok(), !ping_writer || ping_writer->ok()}) {
-    if (!ok) {
-      std::cerr << "identity_actor: a writer could not be created (permissions?)\n";
+  // Joins as a console does: 0 matched, 1 failed for good, 2 not matched in 15 s.
+  const auto join = [&]() -> int {
+    command_writer.reset();
+    request_writer.reset();
+    estop_writer.reset();
+    ping_writer.reset();
+    participant.reset();
+    participant = dds::Participant::Create(options, &error);
+    if (!participant) {
+      std::cerr << "identity_actor: " << error << "\n";
       return 1;
     }
+    // The writers take the publisher's partition (no partition of their own), so that it can be
+    // changed after they are created.
+    own_id = participant->own_client_id().empty() ? sender_id : participant->own_client_id();
+    if (!identity::IsValidClientId(own_id) ||
+        (!move_to.empty() && !identity::IsValidClientId(move_to))) {
+      std::cerr << "identity_actor: invalid client id\n";
+      return 1;
+    }
+    if (!set_partition(own_id)) {
+      std::cerr << "identity_actor: cannot set the publisher's partition\n";
+      return 1;
+    }
+    if (commands) {
+      command_writer =
+          std::make_unique<CommandWriter>(*participant, topics::kCommand, Stream::kCommand);
+    }
+    if (take || release) {
+      request_writer =
+          std::make_unique<RequestWriter>(*participant, topics::kControlRequest, Stream::kControl);
+    }
+    if (estops) {
+      estop_writer =
+          std::make_unique<EstopWriter>(*participant, topics::kEmergencyStop, Stream::kControl);
+    }
+    if (pings) {
+      ping_writer =
+          std::make_unique<PingWriter>(*participant, topics::kClockPing, Stream::kControl);
+    }
+    for (const bool ok :
+         {!command_writer || command_writer->ok(), !request_writer || request_writer->ok(),
+          !estop_writer || estop_writer->ok(), !ping_writer || ping_writer->ok()}) {
+      if (!ok) {
+        std::cerr << "identity_actor: a writer could not be created (permissions?)\n";
+        return 1;
+      }
+    }
+    const auto wait = std::chrono::seconds(15);
+    if (!WaitMatched(command_writer, wait) || !WaitMatched(request_writer, wait) ||
+        !WaitMatched(estop_writer, wait) || !WaitMatched(ping_writer, wait)) {
+      const auto count = [](const auto& writer) {
+        return writer ? std::to_string(writer->matched()) : std::string("-");
+      };
+      std::cerr << "identity_actor: the robot's readers were not matched (readers matched: "
+                   "cmd_vel "
+                << count(command_writer) << ", control request " << count(request_writer)
+                << ", estop " << count(estop_writer) << ", clock ping " << count(ping_writer)
+                << ")\n";
+      return 2;
+    }
+    return 0;
+  };
+  // With DDS Security, Fast DDS 2.9.1 can leave a remote participant discovered but never
+  // authenticated when it discovers two participants at the same moment on two receive threads
+  // (docs/networking.md, Known limits): an operator would reconnect, and so does this console,
+  // twice at most. The new participant has a new GUID, so both sides start afresh.
+  int joined = join();
+  for (int rejoin = 0; joined == 2 && rejoin < 2; ++rejoin) {
+    std::cerr << "identity_actor: joins again\n";
+    joined = join();
   }
-  const auto wait = std::chrono::seconds(15);
-  if (!WaitMatched(command_writer, wait) || !WaitMatched(request_writer, wait) ||
-      !WaitMatched(estop_writer, wait) || !WaitMatched(ping_writer, wait)) {
-    const auto count = [](const auto& writer) {
-      return writer ? std::to_string(writer->matched()) : std::string("-");
-    };
-    std::cerr << "identity_actor: the robot's readers were not matched (readers matched: cmd_vel "
-              << count(command_writer) << ", control request " << count(request_writer)
-              << ", estop " << count(estop_writer) << ", clock ping " << count(ping_writer)
-              << ")\n";
-    return 1;
-  }
+  if (joined != 0) return 1;
   if (!move_to.empty()) {
     if (!set_partition(move_to)) {
       std::cerr << "identity_actor: cannot move to the partition of " << move_to << "\n";
