@@ -199,6 +199,17 @@ void CheckServerFiles(const ServerConfig& config, const std::string& config_dir,
   } else {
     report->Fail("drive: " + error, "correct the drive section (docs/safety.md)");
   }
+  // A repair deadline no repair can meet gives up every lost fragment (docs/cameras.md).
+  const int deadline_ms = config.dds().video_repair_deadline_ms();
+  const int repair_ms = config.dds().video_repair_period_ms();
+  if (deadline_ms > 0 && deadline_ms <= repair_ms) {
+    report->Fail("dds.video_repair_deadline_ms " + std::to_string(deadline_ms) +
+                     " is not longer than dds.video_repair_period_ms " + std::to_string(repair_ms) +
+                     ": no lost fragment can be repaired in time",
+                 "give a repair room: more than the repair period plus the round trip (250 ms "
+                 "with the default 50 ms period on a LAN-like path; 650 ms with the Internet "
+                 "recipe's 250 ms), or 0 to repair without a deadline");
+  }
   std::string state_dir;
   if (!EstopStateDirectory(config, config_dir, &state_dir, &error)) {
     report->Fail(error, "set state_dir (the packaged unit keeps /var/lib/mostar)");

@@ -38,6 +38,19 @@ TEST(ServerCheckTest, TheSimulatorExampleNeedsNothingMore) {
   EXPECT_GE(report.ok().size(), 3u);
 }
 
+TEST(ServerCheckTest, ARepairDeadlineWithinTheRepairPeriodIsAProblem) {
+  ServerConfig config = Load("server_sim.pbtxt");
+  config.mutable_dds()->set_video_repair_period_ms(250);
+  config.mutable_dds()->set_video_repair_deadline_ms(200);
+  ConfigReport report;
+  CheckServerFiles(config, kConfigDir, &report);
+  EXPECT_TRUE(report.HasProblem("video_repair_deadline_ms 200 is not longer than"));
+  config.mutable_dds()->set_video_repair_deadline_ms(650);
+  ConfigReport fine;
+  CheckServerFiles(config, kConfigDir, &fine);
+  EXPECT_FALSE(fine.HasProblem("video_repair_deadline_ms"));
+}
+
 TEST(ServerCheckTest, AMissingSceneIsNamedWithWhereItWasLookedFor) {
   ServerConfig config = Load("server_sim.pbtxt");
   config.set_scene_file("../scenes/no_such_scene.pbtxt");

@@ -155,6 +155,11 @@ int Run(int argc, char** argv) {
   video.repair_period = std::chrono::milliseconds(config.dds().video_repair_period_ms());
   video.repair_deadline = std::chrono::milliseconds(config.dds().video_repair_deadline_ms());
   video.h264 = devices.camera_options.codec == camera::VideoCodec::kH264;
+  // A repair holds the frames behind a loss for about a repair period: not silence.
+  devices.camera_options.video_rate.link.repair_hold = video.repair_period;
+  devices.camera_options.video_rate.repair_deadline = video.repair_deadline;
+  devices.camera_options.video_rate.auto_repair_deadline =
+      config.dds().video_repair_deadline_auto();
   // The role table's clients, each heard in its own partition (RobotNode).
   std::vector<RobotSender> senders;
   for (const auto& role : config.drive().roles()) {
@@ -191,6 +196,12 @@ int Run(int argc, char** argv) {
     trace.Add("right", frame.stamp, frame.sequence);
     return camera::Delivery::kSent;
   });
+  if (devices.camera_options.video_rate.auto_repair_deadline && video.h264) {
+    pipeline.SetRepairDeadlineSink([robot_node](Duration deadline, std::string* why) {
+      return robot_node->SetVideoRepairDeadline(
+          std::chrono::ceil<std::chrono::milliseconds>(deadline), why);
+    });
+  }
   if (rec && devices.camera_options.codec == camera::VideoCodec::kH264) {
     MOSTAR_LOG(WARNING) << "recording without camera images: recordings hold JPEG pairs, and "
                            "the camera codec is H264 (use codec JPEG to record video)";

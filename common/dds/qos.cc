@@ -115,6 +115,28 @@ fdds::DataWriterQos VideoStreamWriterQos(std::chrono::milliseconds repair_period
   return qos;
 }
 
+bool SetRepairDeadline(fdds::DataWriter* writer, std::chrono::milliseconds repair_deadline,
+                       std::string* error) {
+  if (writer == nullptr) {
+    *error = "no writer";
+    return false;
+  }
+  fdds::DataWriterQos qos = writer->get_qos();
+  if (repair_deadline > std::chrono::milliseconds::zero()) {
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(repair_deadline).count();
+    qos.lifespan().duration = Duration_t(static_cast<int32_t>(ns / 1'000'000'000),
+                                         static_cast<uint32_t>(ns % 1'000'000'000));
+  } else {
+    qos.lifespan().duration = eprosima::fastrtps::c_TimeInfinite;
+  }
+  const eprosima::fastrtps::types::ReturnCode_t rc = writer->set_qos(qos);
+  if (rc != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+    *error = "set_qos(lifespan) returned " + std::to_string(rc());
+    return false;
+  }
+  return true;
+}
+
 fdds::DataReaderQos VideoStreamReaderQos(int32_t depth) {
   fdds::DataReaderQos qos = ReaderQos(Stream::kVideo);
   depth = std::max<int32_t>(1, depth);

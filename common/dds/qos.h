@@ -23,6 +23,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <string>
@@ -66,6 +67,11 @@ eprosima::fastdds::dds::DataWriterQos VideoStreamWriterQos(
     std::chrono::milliseconds repair_deadline = std::chrono::milliseconds::zero());
 eprosima::fastdds::dds::DataReaderQos VideoStreamReaderQos(int32_t depth);
 inline constexpr int32_t kVideoStreamDepth = 30;  // 1 s at 30 Hz
+// Changes an enabled stream writer's repair deadline (its lifespan; 0: none) while it runs.
+// Fast DDS 2.9 announces the writer's new QoS to every matched participant, so call it rarely,
+// and from the thread that writes (its set_qos does not lock against write). False with `error`.
+bool SetRepairDeadline(eprosima::fastdds::dds::DataWriter* writer,
+                       std::chrono::milliseconds repair_deadline, std::string* error);
 
 // `qos` with the endpoint in the one DDS partition `partition` (Fast DDS 2.9's "partitions"
 // endpoint property; the publisher's or subscriber's own partitions no longer apply). Commands,

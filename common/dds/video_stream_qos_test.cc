@@ -24,6 +24,7 @@
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
+#include <functional>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -174,13 +175,15 @@ class VideoStreamQosTest : public ::testing::Test {
   // reader with the console's stream QoS, then takes for `listen` more; returns the AU numbers
   // taken, in order.
   std::vector<uint64_t> TakenAus(fdds::DataWriterQos writer_qos, int count,
-                                 std::chrono::milliseconds listen) {
+                                 std::chrono::milliseconds listen,
+                                 const std::function<void(fdds::DataWriter*)>& once_matched = {}) {
     // Each AU in a datagram of its own: the asynchronous sender puts AUs that queued up together
     // (a loaded machine) into one datagram, and the test transport then loses them all.
     writer_qos.publish_mode().kind = fdds::SYNCHRONOUS_PUBLISH_MODE;
     std::vector<uint64_t> taken_aus;
     const auto [writer, reader] = MatchedPair(writer_qos);
     if (writer == nullptr || reader == nullptr) return taken_aus;
+    if (once_matched) once_matched(writer);
     mostar_msgs::msg::dds_::StereoVideoFrame_ frame;
     frame.left().assign(2000, 0x42);
     frame.right().assign(2000, 0x24);
@@ -257,6 +260,25 @@ TEST_F(VideoStreamQosTest, WithoutARepairDeadlineAnAuThatCannotBeRepairedHoldsEv
       TakenAus(VideoStreamWriterQos(std::chrono::milliseconds(20), kVideoStreamDepth), 10,
                std::chrono::seconds(1));
   EXPECT_EQ(taken, (std::vector<uint64_t>{0, 1, 2, 3}));
+}
+
+// The robot follows its viewers' round trip with the deadline (RobotNode::SetVideoRepairDeadline):
+// a writer created without one and given 100 ms once matched behaves as the one above.
+TEST_F(VideoStreamQosTest, ARepairDeadlineSetWhileTheWriterRunsTakesEffect) {
+  counting_.lost_sequence_number = 5;
+  std::string error;
+  bool set = false;
+  const std::vector<uint64_t> taken =
+      TakenAus(VideoStreamWriterQos(std::chrono::milliseconds(20), kVideoStreamDepth), 10,
+               std::chrono::seconds(2), [&](fdds::DataWriter* writer) {
+                 set = SetRepairDeadline(writer, std::chrono::milliseconds(100), &error);
+                 EXPECT_EQ(writer->get_qos().lifespan().duration.nanosec, 100'000'000u);
+               });
+  ASSERT_TRUE(set) << error;
+  EXPECT_EQ(std::count(taken.begin(), taken.end(), 4u), 0);
+  for (uint64_t au : {0u, 1u, 2u, 3u, 5u, 6u, 7u, 8u, 9u}) {
+    EXPECT_EQ(std::count(taken.begin(), taken.end(), au), 1) << "AU " << au;
+  }
 }
 
 TEST(VideoStreamWriterQos, TheRepairDeadlineIsTheWritersLifespan) {

@@ -34,6 +34,7 @@ bool CameraPipelineOptions::IsValid(std::string* error) const {
   }
   if (codec == VideoCodec::kH264) {
     if (!h264.IsValid(error)) return false;
+    if (!video_rate.link.IsValid(error)) return false;
     if (frame_rate_hz < 1) {
       *error = "frame_rate_hz must be >= 1";
       return false;
@@ -49,7 +50,8 @@ CameraPipeline::CameraPipeline(std::unique_ptr<StereoCamera> camera,
       options_(options),
       deliver_(std::move(deliver)),
       clock_(clock),
-      bitrate_stats_(BitrateController(options.bitrate).Stats()) {}
+      bitrate_stats_(BitrateController(options.bitrate).Stats()),
+      rate_control_(options.video_rate) {}
 
 CameraPipeline::~CameraPipeline() { Stop(); }
 
@@ -255,6 +257,26 @@ void CameraPipeline::EncodeH264Loop() {
           << class_target / 1e6 << ", " << link.viewers << " viewers reporting, queue "
           << link.queue_ms << " ms)" << (link.viewers > 0 ? " " : "")
           << (link.viewers > 0 ? rate_control_.Describe(start) : std::string());
+      if (link.viewers > 0 && !options_.video_rate.auto_repair_deadline &&
+          options_.video_rate.repair_deadline > Duration::zero()) {
+        const std::string warning = rate_control_.RepairDeadlineWarning(start);
+        if (!warning.empty()) MOSTAR_LOG_EVERY_SEC(WARNING, 60) << options_.name << ": " << warning;
+      }
+      MOSTAR_LOG_EVERY_SEC(DEBUG, 0.1) << options_.name << ": h264 at " << bits_per_s / 1e6
+                                       << " Mbit/s " << rate_control_.Describe(start);
+    }
+    if (repair_deadline_sink_) {
+      if (const std::optional<Duration> deadline = rate_control_.RepairDeadlineUpdate(start)) {
+        std::string error;
+        const VideoRateStats link = rate_control_.Stats(start);
+        if (repair_deadline_sink_(*deadline, &error)) {
+          MOSTAR_LOG(INFO) << options_.name << ": video repair deadline now "
+                           << ToSeconds(*deadline) * 1e3 << " ms (viewers' round trip about "
+                           << link.report_lag_ms << " ms)";
+        } else {
+          MOSTAR_LOG_EVERY_SEC(WARNING, 60) << options_.name << ": " << error;
+        }
+      }
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -361,6 +383,7 @@ DeviceHealth CameraPipeline::Health() const {
     health.counters.emplace_back("link_viewers", static_cast<uint64_t>(link.viewers));
     health.counters.emplace_back("link_target_bps", rounded(link.target_bits_per_s));
     health.counters.emplace_back("link_queue_ms", rounded(link.queue_ms));
+    health.counters.emplace_back("link_repair_deadline_ms", rounded(link.repair_deadline_ms));
     health.counters.emplace_back("skipped_for_link", skipped_for_link_);
   }
   health.counters.insert(health.counters.end(), camera_counters_.begin(), camera_counters_.end());

@@ -63,6 +63,9 @@ struct CameraPipelineOptions {
   VideoCodec codec = VideoCodec::kJpeg;
   H264StreamOptions h264;  // codec kH264
   int frame_rate_hz = 30;  // the camera's nominal rate (H.264 rate control time base)
+  // Codec kH264: the rate control from the viewers' reports. Set link.repair_hold to the video
+  // writers' repair period (dds.video_repair_period_ms).
+  VideoRateControlOptions video_rate;
   bool IsValid(std::string* error) const;
 };
 
@@ -81,6 +84,11 @@ class CameraPipeline {
 
   // Where H.264 frames go (codec kH264; called on the compression thread). Before Start().
   void SetVideoDelivery(DeliverVideoFn deliver_video) { deliver_video_ = std::move(deliver_video); }
+  // With options.video_rate.auto_repair_deadline: how the video writers' repair deadline is
+  // changed (called on the compression thread, the one that delivers; returns false with
+  // `error` when it could not be). Before Start().
+  using RepairDeadlineFn = std::function<bool(Duration deadline, std::string* error)>;
+  void SetRepairDeadlineSink(RepairDeadlineFn sink) { repair_deadline_sink_ = std::move(sink); }
 
   // Starts both threads. The camera need not be present: it is opened (and reopened) by the
   // capture thread, and its absence shows in Health(). Idempotent.
@@ -123,6 +131,7 @@ class CameraPipeline {
   const CameraPipelineOptions options_;
   const DeliverFn deliver_;
   DeliverVideoFn deliver_video_;
+  RepairDeadlineFn repair_deadline_sink_;
   const Clock* clock_;
   LatestValueSlot<StereoImagePair> slot_;
 

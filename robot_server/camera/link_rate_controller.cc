@@ -38,7 +38,9 @@ bool LinkRateOptions::IsValid(std::string* error) const {
     return false;
   }
   if (decrease_interval <= Duration::zero() || capacity_memory <= Duration::zero() ||
-      base_window <= Duration::zero() || silence_after <= Duration::zero()) {
+      base_window <= Duration::zero() || silence_after <= Duration::zero() ||
+      silence_interval <= Duration::zero() || repair_hold < Duration::zero() ||
+      silence_margin < Duration::zero()) {
     *error = "link rate: intervals must be positive";
     return false;
   }
@@ -101,20 +103,43 @@ std::optional<SteadyTime> SentFrames::FirstSentAfter(uint64_t sequence) const {
 double LinkRateController::OnSilence(const SentFrames& sent, SteadyTime now) {
   // Only once the viewer has reported frames: before that the start rate applies.
   if (!last_arrivals_ || !last_sequence_) return stats_.target_bits_per_s;
+  const Duration silence_after = SilenceAfter();
   const std::optional<SteadyTime> unreported = sent.FirstSentAfter(*last_sequence_);
-  if (!unreported || now - *unreported < options_.silence_after ||
-      now - *last_arrivals_ < options_.silence_after) {
-    return stats_.target_bits_per_s;
-  }
-  if (last_decrease_ && now - *last_decrease_ < options_.decrease_interval) {
+  // Measured from the frame's writing, not from the last report (a report that took older frames
+  // is no news about the frames after them, written into the same link); but only once the
+  // viewer has gone quiet, two report periods without a frame: while frames keep coming, late,
+  // the queue is the delay-based part's to judge.
+  if (!unreported || now - *unreported < silence_after) return stats_.target_bits_per_s;
+  const Duration quiet =
+      stats_.report_period_ms > 0
+          ? std::chrono::microseconds(static_cast<int64_t>(2 * stats_.report_period_ms * 1e3)) +
+                options_.silence_margin
+          : silence_after;
+  if (now - *last_arrivals_ < quiet) return stats_.target_bits_per_s;
+  if (last_decrease_ && now - *last_decrease_ < options_.silence_interval) {
     return stats_.target_bits_per_s;
   }
   double& target = stats_.target_bits_per_s;
-  target = std::max(options_.min_bits_per_s, target * options_.silence_backoff);
+  // The first halving starts from what the viewer last received when that is lower (an encoder
+  // below its target, or a target that had grown past the link): the target alone left the
+  // first halving above a link that had lost three quarters of its capacity.
+  const double from = !silent_ && stats_.throughput_bits_per_s > 0
+                          ? std::min(target, stats_.throughput_bits_per_s)
+                          : target;
+  silent_ = true;
+  target = std::max(options_.min_bits_per_s, from * options_.silence_backoff);
   last_decrease_ = now;
   ++stats_.decreases;
   ++stats_.silence_decreases;
   return target;
+}
+
+Duration LinkRateController::SilenceAfter() const {
+  if (report_lags_.empty()) return options_.silence_after;
+  // A repair takes the repair period and a round trip, about the least report lag itself.
+  return 2 * report_lags_.front().second + options_.repair_hold +
+         std::chrono::microseconds(static_cast<int64_t>(stats_.report_period_ms * 1e3)) +
+         options_.silence_margin;
 }
 
 double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
@@ -133,10 +158,21 @@ double LinkRateController::OnFeedback(const std::vector<FrameArrival>& arrivals,
       held_.emplace(arrival, *at);
       last_sent_ = *at;
       last_arrivals_ = now;
+      silent_ = false;
     }
     ++reported_;
     if (last_sequence_) expected_ += arrival.sequence - *last_sequence_;
     last_sequence_ = arrival.sequence;
+  }
+  if (last_sent_ && last_arrivals_ == now) {
+    AddReportLag(now - *last_sent_, now);
+    // The report period, from intervals below a second (a silence is not a period).
+    if (last_report_with_frames_ && now - *last_report_with_frames_ < std::chrono::seconds(1)) {
+      const double interval_ms = ToSeconds(now - *last_report_with_frames_) * 1e3;
+      double& period = stats_.report_period_ms;
+      period = period > 0 ? 0.9 * period + 0.1 * interval_ms : interval_ms;
+    }
+    last_report_with_frames_ = now;
   }
   stats_.predicted_queue_ms = PredictedQueueMs(sent, now);
   const double q = stats_.predicted_queue_ms;
@@ -157,6 +193,13 @@ double LinkRateController::PredictedQueueMs(const SentFrames& sent, SteadyTime n
   const double added_ms = static_cast<double>(sent.BitsAfter(*last_sequence_)) / rate * 1e3;
   const double passed_ms = ToSeconds(now - *last_sent_) * 1e3;
   return std::max(0.0, stats_.queue_delay_ms + added_ms - passed_ms);
+}
+
+void LinkRateController::AddReportLag(Duration lag, SteadyTime now) {
+  while (!report_lags_.empty() && report_lags_.back().second >= lag) report_lags_.pop_back();
+  report_lags_.emplace_back(now, lag);
+  while (now - report_lags_.front().first > options_.base_window) report_lags_.pop_front();
+  stats_.report_lag_ms = ToSeconds(report_lags_.front().second) * 1e3;
 }
 
 void LinkRateController::AddReceived(const FrameArrival& arrival) {

@@ -30,10 +30,15 @@
 // target by half the loss fraction; below 2 % they do not hold it back.
 // Silence (OnSilence): a viewer reports only while frames reach it, so when a link loses so much
 // capacity that every frame loses a packet, or the frames wait behind one that cannot be
-// repaired, the reports stop and neither part above hears anything. Frames written
-// `silence_after` ago and still not reported then halve the target, again every
-// `decrease_interval` while it lasts (libwebrtc likewise lowers its estimate when feedback stops
-// coming).
+// repaired, the reports stop and neither part above hears anything. Frames written longer ago
+// than a report normally takes plus a repair, and still not reported, then halve the target
+// (the first time from what the viewer last received, if that is lower), again every
+// `silence_interval` while it lasts (libwebrtc likewise lowers its estimate when feedback stops
+// coming). "A report normally takes": the least report lag L (robot time from writing the
+// newest frame of a report to taking the report: both one-way delays and the transmission) over
+// `base_window`; "a repair": `repair_hold`, the writers' repair period, and a round trip (L
+// again); plus the viewer's report period (measured: the mean interval between its reports) and
+// `silence_margin` (jitter). Until a lag is measured, `silence_after`.
 // Not thread-safe: VideoRateControl serialises.
 #pragma once
 
@@ -66,10 +71,20 @@ struct LinkRateOptions {
   double normal_queue_ms = 20;   // below it the rate may grow
   double skip_queue_ms = 150;    // frames are skipped at the source above it
   Duration base_window = std::chrono::seconds(10);
-  // Longer than a repair holds frames (a heartbeat period and a round trip; the Internet recipe:
-  // 250 + 100 ms) plus a report period (50 ms), so that a repaired loss is not read as silence.
+  // Silence (see the top of this file) once the first unreported frame is older than twice the
+  // least report lag + repair_hold + the report period + silence_margin: a repaired loss holds
+  // frames for about a repair period and a round trip, and must not read as silence.
+  // repair_hold is the video writers' repair (heartbeat) period, dds.video_repair_period_ms.
+  // Before a lag is measured: silence_after.
+  Duration repair_hold = std::chrono::milliseconds(50);
+  Duration silence_margin = std::chrono::milliseconds(30);
   Duration silence_after = std::chrono::milliseconds(500);
-  double silence_backoff = 0.5;  // x target per decrease_interval of silence
+  double silence_backoff = 0.5;  // x target per silence_interval of silence
+  // Shorter than decrease_interval: a link too full to deliver a whole frame is also full of
+  // repairs (every lost fragment is sent again each repair period until the deadline), so the
+  // rate must fall far below the link before anything gets through again (the step bench:
+  // to a third of it).
+  Duration silence_interval = std::chrono::milliseconds(150);
   bool IsValid(std::string* error) const;
 };
 
@@ -88,6 +103,8 @@ struct LinkRateStats {
   uint64_t decreases = 0;
   uint64_t held_back = 0;          // frames released together with a later one: no delay sample
   uint64_t silence_decreases = 0;  // of `decreases`, made because no frame was reported
+  double report_lag_ms = 0;        // least report lag over base_window (0: not measured yet)
+  double report_period_ms = 0;     // mean interval between reports with frames (0: not yet)
 };
 
 // The robot's record of the frames it wrote: AU number -> (send time, bytes), the newest
@@ -122,6 +139,8 @@ class LinkRateController {
   // Called for every frame the encoder is about to write, reports or not: the silence rule
   // (see the top of this file). Returns the target, bit/s.
   double OnSilence(const SentFrames& sent, SteadyTime now);
+  // How old the first unreported frame may get before the silence rule applies.
+  Duration SilenceAfter() const;
   const LinkRateStats& stats() const { return stats_; }
   // Whether the encoder should skip the frame it would write at `now`: the queue it would meet
   // is over `skip_queue_ms` (after a drop in capacity the frames already queued are late
@@ -143,6 +162,8 @@ class LinkRateController {
   static constexpr int64_t kReleaseBatchNs = 5'000'000;
   void AddReceived(const FrameArrival& arrival);
   void AddDelay(const FrameArrival& arrival, SteadyTime sent);
+  // A report whose newest frame was written `lag` before `now` (robot clock).
+  void AddReportLag(Duration lag, SteadyTime now);
   // The queueing delay a frame written at `now` meets: the last one seen, plus, while a queue
   // shows, what the frames written since then add (their bits at the delivery rate) less the
   // time that passed.
@@ -160,6 +181,11 @@ class LinkRateController {
     uint32_t bytes = 0;  // the frame's
   };
   std::deque<BaseDelay> base_delays_;
+  // (robot time of the report, report lag), a monotonic deque over base_window: its front is the
+  // least lag.
+  std::deque<std::pair<SteadyTime, Duration>> report_lags_;
+  bool silent_ = false;  // a silence decrease was made and no frame was reported since
+  std::optional<SteadyTime> last_report_with_frames_;
   // Throughput (viewer clock) and loss.
   std::deque<std::pair<int64_t, uint32_t>> received_;  // (arrival ns, bytes), last 500 ms
   // (arrival ns, throughput), a monotonic deque over 2 s: its front is the peak delivery rate.

@@ -1,6 +1,7 @@
 #include "robot_server/camera/video_rate_control.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace mostar::camera {
@@ -92,6 +93,7 @@ VideoRateStats VideoRateControl::Stats(SteadyTime now) {
   std::lock_guard<std::mutex> lock(mutex_);
   VideoRateStats stats;
   stats.reports = reports_;
+  stats.repair_deadline_ms = ToSeconds(auto_deadline_) * 1e3;
   stats.reports_refused = refused_;
   for (const auto& [id, viewer] : viewers_) {
     if (now - viewer.last_report > options_.viewer_timeout) continue;
@@ -101,8 +103,57 @@ VideoRateStats VideoRateControl::Stats(SteadyTime now) {
                                   ? std::min(stats.target_bits_per_s, s.target_bits_per_s)
                                   : s.target_bits_per_s;
     stats.queue_ms = std::max(stats.queue_ms, s.predicted_queue_ms);
+    stats.report_lag_ms = std::max(stats.report_lag_ms, s.report_lag_ms);
   }
   return stats;
+}
+
+std::optional<Duration> VideoRateControl::RepairDeadlineUpdate(SteadyTime now) {
+  if (!options_.auto_repair_deadline) return std::nullopt;
+  std::lock_guard<std::mutex> lock(mutex_);
+  double lag_ms = 0;
+  for (const auto& [id, viewer] : viewers_) {
+    if (now - viewer.last_report > options_.viewer_timeout) continue;
+    lag_ms = std::max(lag_ms, viewer.controller.stats().report_lag_ms);
+  }
+  if (lag_ms <= 0) return std::nullopt;
+  const auto floor = options_.link.repair_hold + options_.auto_deadline_margin;
+  auto wanted = std::chrono::duration_cast<Duration>(
+      options_.link.repair_hold + std::chrono::microseconds(static_cast<int64_t>(1.5e3 * lag_ms)) +
+      options_.auto_deadline_margin);
+  wanted = std::clamp<Duration>(wanted, floor, options_.max_repair_deadline);
+  wanted = std::chrono::ceil<std::chrono::milliseconds>(wanted);
+  if (auto_deadline_ > Duration::zero()) {
+    const double now_ms = ToSeconds(auto_deadline_) * 1e3;
+    const double wanted_ms = ToSeconds(wanted) * 1e3;
+    if (std::abs(wanted_ms - now_ms) <= options_.auto_deadline_change * now_ms) return std::nullopt;
+    if (auto_deadline_set_ && now - *auto_deadline_set_ < options_.auto_deadline_interval) {
+      return std::nullopt;
+    }
+  }
+  auto_deadline_ = wanted;
+  auto_deadline_set_ = now;
+  return wanted;
+}
+
+std::string VideoRateControl::RepairDeadlineWarning(SteadyTime now) {
+  if (options_.repair_deadline <= Duration::zero()) return "";
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double deadline_ms = ToSeconds(options_.repair_deadline) * 1e3;
+  const double hold_ms = ToSeconds(options_.link.repair_hold) * 1e3;
+  for (const auto& [id, viewer] : viewers_) {
+    if (now - viewer.last_report > options_.viewer_timeout) continue;
+    const double lag_ms = viewer.controller.stats().report_lag_ms;
+    if (lag_ms <= 0 || hold_ms + lag_ms < deadline_ms) continue;
+    char line[320];
+    std::snprintf(line, sizeof(line),
+                  "the video repair deadline (%.0f ms) is shorter than a repair takes on %s's "
+                  "link (repair period %.0f ms + round trip about %.0f ms): lost fragments are "
+                  "given up, not repaired; raise dds.video_repair_deadline_ms above %.0f ms",
+                  deadline_ms, id.substr(0, 64).c_str(), hold_ms, lag_ms, hold_ms + lag_ms + 50);
+    return line;
+  }
+  return "";
 }
 
 std::string VideoRateControl::Describe(SteadyTime now) {
@@ -114,12 +165,12 @@ std::string VideoRateControl::Describe(SteadyTime now) {
     char line[256];
     std::snprintf(line, sizeof(line),
                   "%s%s: target %.2f Mbit/s, received %.2f Mbit/s, queue %.0f ms (%s), "
-                  "%llu decreases (%llu in silence), %llu held back",
+                  "%llu decreases (%llu in silence), %llu held back, report lag %.0f ms",
                   out.empty() ? "" : "; ", id.substr(0, 64).c_str(), s.target_bits_per_s / 1e6,
                   s.throughput_bits_per_s / 1e6, s.predicted_queue_ms, LinkUsageName(s.usage),
                   static_cast<unsigned long long>(s.decreases),
                   static_cast<unsigned long long>(s.silence_decreases),
-                  static_cast<unsigned long long>(s.held_back));
+                  static_cast<unsigned long long>(s.held_back), s.report_lag_ms);
     out += line;
   }
   return out;

@@ -37,14 +37,29 @@ struct VideoRateControlOptions {
   // the silence rule keeps lowering (LinkRateController::OnSilence): the quarter of the class
   // would otherwise be written into the link that just starved it.
   Duration silent_cap = std::chrono::seconds(10);
+  // The video writers' repair deadline (dds.video_repair_deadline_ms; 0: none), for
+  // RepairDeadlineWarning.
+  Duration repair_deadline{0};
+  // dds.video_repair_deadline_auto: the deadline follows the viewers' links
+  // (RepairDeadlineUpdate): link.repair_hold + 1.5 x the largest report lag (a round trip) +
+  // auto_deadline_margin, within [link.repair_hold + auto_deadline_margin, max_repair_deadline];
+  // changed when it is off by more than auto_deadline_change, at most every
+  // auto_deadline_interval (each change is announced to every participant).
+  bool auto_repair_deadline = false;
+  Duration auto_deadline_margin = std::chrono::milliseconds(50);
+  Duration max_repair_deadline = std::chrono::seconds(2);
+  double auto_deadline_change = 0.2;
+  Duration auto_deadline_interval = std::chrono::seconds(5);
 };
 
 struct VideoRateStats {
-  int viewers = 0;               // reporting within the timeout
-  double target_bits_per_s = 0;  // 0: no viewer reports (the class target applies)
-  double queue_ms = 0;           // the largest predicted queue among them
-  uint64_t reports = 0;          // feedback messages taken
-  uint64_t reports_refused = 0;  // malformed (AU numbers not increasing)
+  int viewers = 0;                // reporting within the timeout
+  double target_bits_per_s = 0;   // 0: no viewer reports (the class target applies)
+  double queue_ms = 0;            // the largest predicted queue among them
+  double report_lag_ms = 0;       // the largest least report lag among them (about a round trip)
+  double repair_deadline_ms = 0;  // set by RepairDeadlineUpdate (0: none yet)
+  uint64_t reports = 0;           // feedback messages taken
+  uint64_t reports_refused = 0;   // malformed (AU numbers not increasing)
 };
 
 class VideoRateControl {
@@ -69,6 +84,13 @@ class VideoRateControl {
   // One line per viewer heard from within the timeout, for the log: id, target, throughput,
   // queue, usage, decreases, frames held back by repairs.
   std::string Describe(SteadyTime now);
+  // Empty, or why the repair deadline is too short for some reporting viewer's link: a repair
+  // takes the repair period (options.link.repair_hold) and a round trip (its report lag), and a
+  // deadline below that gives up lost fragments instead of repairing them.
+  std::string RepairDeadlineWarning(SteadyTime now);
+  // With auto_repair_deadline: the deadline the video writers should now have, when it should
+  // change (see the options); nullopt otherwise (also before any viewer's lag is measured).
+  std::optional<Duration> RepairDeadlineUpdate(SteadyTime now);
 
  private:
   struct Viewer {
@@ -83,6 +105,8 @@ class VideoRateControl {
   uint64_t reports_ = 0;
   uint64_t refused_ = 0;
   std::optional<SteadyTime> skipping_since_;
+  Duration auto_deadline_{0};  // 0: none set yet
+  std::optional<SteadyTime> auto_deadline_set_;
 };
 
 }  // namespace mostar::camera

@@ -73,12 +73,74 @@ TEST(VideoRateControlTest, FramesSentIntoASilenceLowerTheTarget) {
     const SteadyTime now = kT0 + milliseconds(33 * n);
     target = control.Target(16e6, now);
     control.OnFrameSent(n, now, 20'000);
-    if (now - last_report < milliseconds(450)) {
+    // Twice the report's lag (60 ms) + the repair hold (50) + the margin (50) since frame 61 was
+    // sent (27 ms before the report): no decrease for 193 ms.
+    if (now - last_report < milliseconds(190)) {
       EXPECT_EQ(target, reported);
+    } else if (now - last_report > milliseconds(200)) {
+      EXPECT_LT(target, reported);
     }
   }
   EXPECT_EQ(target, LinkRateOptions().min_bits_per_s);
   EXPECT_LT(target, 16e6 * VideoRateControlOptions().unreported_fraction);
+}
+
+// A repair takes the repair period and a round trip: a deadline below that is named in the log.
+TEST(VideoRateControlTest, ARepairDeadlineShorterThanARepairIsNamed) {
+  for (const int deadline_ms : {0, 100, 250}) {
+    VideoRateControlOptions options;
+    options.link.repair_hold = milliseconds(50);
+    options.repair_deadline = milliseconds(deadline_ms);
+    VideoRateControl control(options);
+    control.SetClassTarget(8e6);
+    for (uint64_t n = 1; n <= 60; ++n) control.OnFrameSent(n, kT0 + milliseconds(33 * n), 20'000);
+    const SteadyTime now = kT0 + milliseconds(33 * 60 + 120);  // a 120 ms report lag
+    control.OnFeedback(Report("hub", 1, 60, 50, 0), now);
+    EXPECT_NEAR(control.Stats(now).report_lag_ms, 120, 1);
+    const std::string warning = control.RepairDeadlineWarning(now);
+    if (deadline_ms == 100) {
+      EXPECT_NE(warning.find("shorter than a repair takes on hub's link"), std::string::npos)
+          << warning;
+      EXPECT_NE(warning.find("above 220 ms"), std::string::npos) << warning;
+    } else {
+      EXPECT_EQ(warning, "") << "deadline " << deadline_ms << " ms";
+    }
+  }
+}
+
+// The automatic deadline: the repair period + 1.5 round trips + 50 ms, once a lag is measured;
+// changed only when 20 % off and an interval (5 s by default) after the last change (each change
+// is announced to every participant).
+TEST(VideoRateControlTest, TheAutomaticRepairDeadlineFollowsTheSlowestViewersRoundTrip) {
+  VideoRateControlOptions options;
+  options.link.repair_hold = milliseconds(50);
+  options.auto_repair_deadline = true;
+  options.auto_deadline_interval = std::chrono::seconds(1);
+  VideoRateControl control(options);
+  control.SetClassTarget(8e6);
+  EXPECT_FALSE(control.RepairDeadlineUpdate(kT0).has_value()) << "no lag measured yet";
+  for (uint64_t n = 1; n <= 200; ++n) control.OnFrameSent(n, kT0 + milliseconds(33 * n), 20'000);
+  SteadyTime now = kT0 + milliseconds(33 * 60 + 120);  // a 120 ms report lag
+  control.OnFeedback(Report("pilot", 1, 60, 50, 0), now);
+  std::optional<Duration> deadline = control.RepairDeadlineUpdate(now);
+  ASSERT_TRUE(deadline.has_value());
+  EXPECT_EQ(*deadline, milliseconds(50 + 180 + 50));
+  EXPECT_NEAR(control.Stats(now).repair_deadline_ms, 280, 1e-6);
+  EXPECT_FALSE(control.RepairDeadlineUpdate(now + milliseconds(10)).has_value()) << "unchanged";
+  // A viewer across the Internet (400 ms report lag): far off, but within a second (this test's
+  // interval) of the change.
+  const SteadyTime changed = now;
+  now = kT0 + milliseconds(33 * 66 + 400);
+  control.OnFeedback(Report("observer", 61, 66, 50, 0), now);
+  EXPECT_FALSE(control.RepairDeadlineUpdate(now).has_value());
+  deadline = control.RepairDeadlineUpdate(changed + milliseconds(1100));
+  ASSERT_TRUE(deadline.has_value()) << "a second later";
+  EXPECT_EQ(*deadline, milliseconds(50 + 600 + 50));
+  // Off by default.
+  VideoRateControl fixed;
+  fixed.OnFrameSent(1, kT0, 20'000);
+  fixed.OnFeedback(Report("pilot", 1, 1, 50, 0), kT0 + milliseconds(120));
+  EXPECT_FALSE(fixed.RepairDeadlineUpdate(kT0 + milliseconds(120)).has_value());
 }
 
 // Only frames sent measure the link: after an outage the frames that waited it out report

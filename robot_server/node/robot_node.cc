@@ -410,6 +410,19 @@ bool RobotNode::PublishStereo(const CompressedStereoPair& pair) {
   return true;
 }
 
+bool RobotNode::SetVideoRepairDeadline(std::chrono::milliseconds deadline, std::string* error) {
+  if (!stereo_video_) {
+    *error = "no H.264 stream";
+    return false;
+  }
+  for (eprosima::fastdds::dds::DataWriter* writer :
+       {stereo_video_->get(), left_video_ ? left_video_->get() : nullptr,
+        right_video_ ? right_video_->get() : nullptr}) {
+    if (writer != nullptr && !dds::SetRepairDeadline(writer, deadline, error)) return false;
+  }
+  return true;
+}
+
 bool RobotNode::PublishStereoVideo(const StereoVideoFrame& frame) {
   if (!stereo_video_) return false;  // not created for H.264 (VideoOptions::h264)
   video_write_since_ns_ = clock_->SteadyNow().time_since_epoch().count();

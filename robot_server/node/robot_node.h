@@ -121,6 +121,9 @@ class RobotNode final : public RobotLink {
   // foxglove_msgs/CompressedVideo while a reader of that topic is matched, then the
   // FrameTiming. False when DDS refused the sample.
   bool PublishStereoVideo(const StereoVideoFrame& frame);
+  // The H.264 writers' repair deadline from now on (dds::SetRepairDeadline; 0: none). From the
+  // thread that calls PublishStereoVideo. False with `error` (also without H.264).
+  bool SetVideoRepairDeadline(std::chrono::milliseconds deadline, std::string* error);
   // Intrinsics of one eye (transient local: late joiners get them at once).
   void PublishCameraInfo(Eye eye, const CameraIntrinsicsInfo& info) override;
   // One eye, unconditionally (replay).

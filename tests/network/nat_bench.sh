@@ -46,7 +46,9 @@
 # every observer subscribes to the
 # robot), SECURE (1: DDS Security on top of the overlay, made by make_pki.sh; 0: off),
 # PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
-# REPAIR_MS (250: the server's dds.video_repair_period_ms), WINDOW (the server's default:
+# REPAIR_MS (250: the server's dds.video_repair_period_ms), REPAIR_DEADLINE (h264: milliseconds,
+# the server's dds.video_repair_deadline_ms, or "auto": dds.video_repair_deadline_auto; unset:
+# none), WINDOW (the server's default:
 # dds.video_window_pairs),
 # TRANSPORT ("udp", or "tcp" with WG_TCP), CODEC ("jpeg", or "h264": the camera as two H.264
 # streams, deploy/config/server_sim_h264.pbtxt, VIDEO_HZ then 30 by default and observers
@@ -155,7 +157,13 @@ sed -e "s|frame_rate_hz: [0-9.]*|frame_rate_hz: $video_hz|" \
     -e "s|scene_file: \"\.\./|scene_file: \"$src/deploy/|" \
     "$src/deploy/config/$base_config" > "$work/server.pbtxt"
 # The Internet recipe's video settings (docs/networking.md): repairs about once per round trip.
-echo "dds { video_repair_period_ms: ${REPAIR_MS:-250}${WINDOW:+ video_window_pairs: $WINDOW} }" >> "$work/server.pbtxt"
+deadline=""
+case ${REPAIR_DEADLINE:-} in
+  "") ;;
+  auto) deadline=" video_repair_deadline_auto: true" ;;
+  *) deadline=" video_repair_deadline_ms: $REPAIR_DEADLINE" ;;
+esac
+echo "dds { video_repair_period_ms: ${REPAIR_MS:-250}${WINDOW:+ video_window_pairs: $WINDOW}$deadline }" >> "$work/server.pbtxt"
 
 # Waits up to $2 tenths of a second for the shell condition $1.
 wait_for() {

@@ -99,6 +99,9 @@ struct Counters {
   std::atomic<uint64_t> lost{0};
   std::atomic<uint64_t> queue_drops{0};
   std::atomic<uint64_t> outage_drops{0};
+  // IP bytes handed to the far end, per whole second since start (written by the forwarding
+  // thread only, read after it ends).
+  std::vector<uint64_t> bytes_by_second;
 };
 
 // Creates TUN device `name` inside namespace `netns` (entered by this thread for the call).
@@ -153,6 +156,14 @@ void Forward(int in, int out, PathModel model, uint64_t seed, Counters* counters
     while (!pending.empty() && pending.front().deliver_at <= now) {
       if (write(out, pending.front().packet.data(), pending.front().packet.size()) > 0) {
         ++counters->forwarded;
+        const auto second = static_cast<size_t>(
+            std::chrono::duration<double>(pending.front().deliver_at - model.start).count());
+        if (second < 86400) {
+          if (counters->bytes_by_second.size() <= second) {
+            counters->bytes_by_second.resize(second + 1, 0);
+          }
+          counters->bytes_by_second[second] += pending.front().packet.size();
+        }
       }
       pending.pop_front();
     }
@@ -228,6 +239,10 @@ int Main(int argc, char** argv) {
   app.add_option("--duration-s", duration_s, "stop after this many seconds")
       ->check(CLI::Range(1.0, 3600.0));
   app.add_option("--seed", seed, "random seed");
+  std::string usage_csv;
+  app.add_option("--usage-csv", usage_csv,
+                 "write 'second,a_to_b_kbit,b_to_a_kbit' (IP bytes delivered per second since "
+                 "ready) to this file at the end");
   CLI11_PARSE(app, argc, argv);
 
   std::string error;
@@ -270,6 +285,24 @@ int Main(int argc, char** argv) {
                                 std::pair<const char*, Counters*>{"b_to_a", &b_to_a}}) {
     std::cout << "netem_relay: " << name << " forwarded=" << c->forwarded << " lost=" << c->lost
               << " queue_drops=" << c->queue_drops << " outage_drops=" << c->outage_drops << "\n";
+  }
+  if (!usage_csv.empty()) {
+    std::FILE* file = std::fopen(usage_csv.c_str(), "w");
+    if (file == nullptr) {
+      std::cerr << "netem_relay: cannot write " << usage_csv << ": " << std::strerror(errno)
+                << "\n";
+      return 1;
+    }
+    std::fprintf(file, "second,a_to_b_kbit,b_to_a_kbit\n");
+    const size_t seconds = std::max(a_to_b.bytes_by_second.size(), b_to_a.bytes_by_second.size());
+    for (size_t i = 0; i < seconds; ++i) {
+      const auto kbit = [i](const Counters& c) {
+        return i < c.bytes_by_second.size() ? static_cast<double>(c.bytes_by_second[i]) * 8e-3
+                                            : 0.0;
+      };
+      std::fprintf(file, "%zu,%.0f,%.0f\n", i, kbit(a_to_b), kbit(b_to_a));
+    }
+    std::fclose(file);
   }
   return 0;
 }
