@@ -46,6 +46,11 @@ void AddClientOptions(CLI::App* app, ClientCommandLine* line) {
       ->check(CLI::NonNegativeNumber);
   app->add_option("--duration", line->duration_s, "exit after this many seconds")
       ->check(CLI::NonNegativeNumber);
+  app->add_option("--rejoin-after", line->rejoin_after_s,
+                  "seconds without the robot after which the console joins DDS again as a new "
+                  "participant (a handshake that never ends), doubling each time up to 120; 0: "
+                  "never")
+      ->check(CLI::Range(0.0, 120.0));
   app->add_option("--screenshot", line->screenshot, "write the last rendered frame to this PNG");
   auto* capture_stamp_option =
       app->add_option("--capture-stamp", line->capture_stamp_ns,

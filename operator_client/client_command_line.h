@@ -24,6 +24,9 @@ struct ClientCommandLine {
   // The run ends after max_frames rendered pairs (0: no limit) or duration_s (0: none).
   int max_frames = 0;
   double duration_s = 0;
+  // Without the robot for this long, join DDS again as a new participant, then after twice as
+  // long each time (RejoinPolicy); 0: never.
+  double rejoin_after_s = 15;
   std::string screenshot;              // PNG of the last rendered frame, written at the end
   int64_t capture_stamp_ns = -1;       // render only this pair (ns since the epoch), then end
   int capture_after = -1;              // capture the first pair decoded after this many

@@ -4,8 +4,11 @@
 #include <atomic>
 #include <cstdlib>
 #include <iostream>
+#include <mutex>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <thread>
+#include <vector>
 
 #include "common/config/config_loader.h"
 #include "common/config/config_paths.h"
@@ -25,6 +28,8 @@
 #include "operator_client/client_options.h"
 #include "operator_client/net/client_inbox.h"
 #include "operator_client/net/operator_node.h"
+#include "operator_client/net/operator_session.h"
+#include "operator_client/net/rejoin_policy.h"
 #include "operator_client/net/robot_state.h"
 #include "operator_client/net/video_relay_options.h"
 #include "operator_client/render/stereo_compositor.h"
@@ -139,31 +144,33 @@ int Run(int argc, char** argv) {
   record::RecordingWriter* rec = recorder.get();
   StereoReceiver video(clock);
   RobotState robot(clock);
-  OperatorNode::Options node_options;
-  node_options.client_id = client_id;
-  node_options.pilot = console_options.pilot;
-  if (video_participant) node_options.streams = OperatorNode::Options::Streams::kAllButVideo;
-  const OperatorNode::Callbacks callbacks =
-      InboxCallbacks({client_id, clock, &video, &robot, rec, &trace});
-  auto node = OperatorNode::Create(participant.get(), node_options, callbacks, &error);
-  std::unique_ptr<OperatorNode> video_node;  // through the relay, or null
-  if (node && video_participant) {
-    node_options.streams = OperatorNode::Options::Streams::kVideoOnly;
-    video_node = OperatorNode::Create(video_participant.get(), node_options, callbacks, &error);
-  }
-  if (!node || (video_participant && !video_node)) {
+  OperatorSession::Options session_options;
+  session_options.dds = dds_options;
+  if (line.video_via_relay) session_options.video_dds = video_dds_options;
+  session_options.node.client_id = client_id;
+  session_options.node.pilot = console_options.pilot;
+  session_options.callbacks = InboxCallbacks({client_id, clock, &video, &robot, rec, &trace});
+  std::unique_ptr<OperatorSession> session = OperatorSession::Create(
+      session_options, &error, std::move(participant), std::move(video_participant));
+  if (!session) {
     std::cerr << "operator_client: " << error << "\n";
     return 1;
   }
-  OperatorNode* video_source = video_node ? video_node.get() : node.get();
-  video.SetKeyframeRequester(
-      [video_source, &client_id, clock](uint64_t last, const std::string& reason) {
-        video_source->SendKeyframeRequest({clock->Now(), client_id, last, reason});
-      });
-  video.SetFeedbackSender(
-      [video_source, &client_id, clock](const std::vector<VideoFrameArrival>& a) {
-        video_source->SendVideoFeedback({clock->Now(), client_id, a});
-      });
+  // Guards `session` while a join replaces it: the command thread writes through it.
+  std::mutex session_mutex;
+  // The receiver's requests and reports go to the session's video source (its own lock
+  // serialises them with setting them).
+  const auto connect_video = [&video, &client_id, clock](OperatorNode* video_source) {
+    video.SetKeyframeRequester(
+        [video_source, &client_id, clock](uint64_t last, const std::string& reason) {
+          video_source->SendKeyframeRequest({clock->Now(), client_id, last, reason});
+        });
+    video.SetFeedbackSender(
+        [video_source, &client_id, clock](const std::vector<VideoFrameArrival>& a) {
+          video_source->SendVideoFeedback({clock->Now(), client_id, a});
+        });
+  };
+  connect_video(&session->video_source());
   // On every way out, the receiver stops writing through the node before it goes (declared
   // after it).
   struct RequesterReset {
@@ -178,14 +185,24 @@ int Run(int argc, char** argv) {
   sender_options.client_id = client_id;
   sender_options.pilot = console_options.pilot;
   ui::CommandSinks sinks;
-  sinks.command = [&](const VelocityCommand& c) { return node->SendCommand(c); };
+  sinks.command = [&](const VelocityCommand& c) {
+    std::lock_guard<std::mutex> lock(session_mutex);
+    return session && session->node().SendCommand(c);
+  };
   sinks.ping = [&](const ClockProbe& p) {
     ClockProbe ping = p;
     ping.t3 = robot.PongReceipt(p.sequence - 1);
-    return node->SendPing(ping);
+    std::lock_guard<std::mutex> lock(session_mutex);
+    return session && session->node().SendPing(ping);
   };
-  sinks.control = [&](const ControlRequest& r) { return node->SendControlRequest(r); };
-  sinks.estop = [&](const EmergencyStop& e) { return node->SendEmergencyStop(e); };
+  sinks.control = [&](const ControlRequest& r) {
+    std::lock_guard<std::mutex> lock(session_mutex);
+    return session && session->node().SendControlRequest(r);
+  };
+  sinks.estop = [&](const EmergencyStop& e) {
+    std::lock_guard<std::mutex> lock(session_mutex);
+    return session && session->node().SendEmergencyStop(e);
+  };
   sinks.robot_estop = [&robot]() -> std::optional<ui::ReportedEstop> {
     ui::ReportedEstop reported;
     const std::optional<bool> engaged = robot.EstopEngaged(&reported.received);
@@ -225,9 +242,9 @@ int Run(int argc, char** argv) {
   }
   MOSTAR_LOG(INFO) << "operator_client '" << client_id << "' (" << flags.role << ") on DDS domain "
                    << dds_options.domain_id
-                   << (video_participant ? ", video through the relay on domain " +
-                                               std::to_string(video_dds_options.domain_id)
-                                         : std::string())
+                   << (line.video_via_relay ? ", video through the relay on domain " +
+                                                  std::to_string(video_dds_options.domain_id)
+                                            : std::string())
                    << ", " << window->renderer() << ", display "
                    << render::DisplayModeName(console_options.mode);
   commands.Start();
@@ -235,9 +252,39 @@ int Run(int argc, char** argv) {
   const ui::RunLimits limits{static_cast<uint64_t>(line.max_frames), FromSeconds(line.duration_s)};
   const SteadyTime start = clock->SteadyNow();
   // The overlay's address gone and back is logged; a new address means restarting in place.
-  dds::NetworkCheck network_check({participant.get(), video_participant.get()});
+  std::optional<dds::NetworkCheck> network_check;
+  network_check.emplace(
+      std::vector<const dds::Participant*>{&session->participant(), session->video_participant()});
+  RejoinPolicy rejoin(RejoinOptionsAfter(line.rejoin_after_s));
   while (!StopRequested() && !window->ShouldClose()) {
-    if (network_check.RestartNeeded(std::chrono::steady_clock::now())) {
+    if (line.rejoin_after_s > 0 &&
+        rejoin.Update(session != nullptr && session->robot_seen(), clock->SteadyNow())) {
+      // Nothing of the robot matched for that long: join again as a new participant (a
+      // handshake that never ends, or a robot that is not there: it costs a participant).
+      MOSTAR_LOG(WARNING) << "operator_client: nothing of the robot matched for "
+                          << ToSeconds(rejoin.wait())
+                          << " s; joining DDS again as a new participant";
+      rejoin.Rejoined(clock->SteadyNow());
+      video.SetKeyframeRequester(nullptr);
+      video.SetFeedbackSender(nullptr);
+      network_check.reset();
+      {
+        std::lock_guard<std::mutex> lock(session_mutex);
+        const ExitDeadline deadline(FromMilliseconds(5000), 4, "operator_client",
+                                    "DDS teardown to join again");
+        session.reset();
+      }
+      std::unique_ptr<OperatorSession> joined = OperatorSession::Create(session_options, &error);
+      if (!joined) MOSTAR_LOG(ERROR) << "operator_client: cannot join DDS again: " << error;
+      std::lock_guard<std::mutex> lock(session_mutex);
+      session = std::move(joined);
+      if (session) {
+        connect_video(&session->video_source());
+        network_check.emplace(std::vector<const dds::Participant*>{&session->participant(),
+                                                                   session->video_participant()});
+      }
+    }
+    if (network_check && network_check->RestartNeeded(std::chrono::steady_clock::now())) {
       MOSTAR_LOG(WARNING) << "operator_client: restarting in place to be reachable on this "
                              "computer's new address";
       RequestRestart();
@@ -269,8 +316,8 @@ int Run(int argc, char** argv) {
     commands.Stop();
     video.SetKeyframeRequester(nullptr);  // they write through the node
     video.SetFeedbackSender(nullptr);
-    video_node.reset();
-    node.reset();  // no more callbacks into the recorder
+    std::lock_guard<std::mutex> lock(session_mutex);
+    if (session) session->CloseNodes();  // no more callbacks into the recorder
   }
   if (recorder && !recorder->Close(&error)) {
     std::cerr << "operator_client: recording: " << error << "\n";

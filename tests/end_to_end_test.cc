@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -14,6 +16,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/dds/domain.h"
@@ -238,6 +241,55 @@ TEST_F(EndToEndTest, FramesScansAndCommandsFlowBothWays) {
   }
   EXPECT_GT(value("latency_total_ms_p50"), 0.0);
   EXPECT_NEAR(value("latency_unexplained_ms_p50"), 0.0, 0.5) << "a stage without its stamp";
+}
+
+// A console started before the robot joins DDS again, as a new participant, while nothing of
+// the robot matches (RejoinPolicy: here after 1 s, then 2, then 4; the same path gets a console
+// out of a DDS Security handshake that never ends), and once the robot is up, it sees it and
+// drives it through the participant it joined with last.
+TEST_F(EndToEndTest, AConsoleStartedBeforeTheRobotJoinsAgainAndDrivesOnceItComes) {
+  Subprocess client;
+  std::string error;
+  ASSERT_TRUE(client.Start({Bin("operator_client/operator_client"), "--headless", "--domain",
+                            domain_, "--id", "operator", "--duration", "14", "--drive", "0.3,0",
+                            "--rejoin-after", "1", "--trace", dir_ + "/client.csv"},
+                           dir_ + "/client.log", &error))
+      << error;
+  std::this_thread::sleep_for(std::chrono::milliseconds(4500));
+  Subprocess server;
+  ASSERT_TRUE(server.Start({Bin("robot_server/robot_server"), "--domain", domain_, "--config",
+                            Source("deploy/config/server_sim.pbtxt"), "--source", "test_pattern",
+                            "--trace", dir_ + "/server.csv"},
+                           dir_ + "/server.log", &error))
+      << error;
+  const std::optional<int> client_exit = client.Wait(std::chrono::seconds(60));
+  ASSERT_TRUE(client_exit.has_value()) << "client hung";
+  const std::string log = testing::ReadFile(dir_ + "/client.log");
+  EXPECT_EQ(*client_exit, 0) << log;
+  server.Signal(SIGTERM);
+  const std::optional<int> server_exit = server.Wait(std::chrono::seconds(20));
+  ASSERT_TRUE(server_exit.has_value()) << "server did not stop on SIGTERM";
+
+  // Joined again at 1 s and 3 s without the robot (then it waits 4 s: the robot comes first).
+  size_t joins = 0;
+  for (size_t at = log.find("joining DDS again"); at != std::string::npos;
+       at = log.find("joining DDS again", at + 1)) {
+    ++joins;
+  }
+  EXPECT_GE(joins, 2u) << log;
+  EXPECT_EQ(log.find("cannot join DDS again"), std::string::npos) << log;
+  // The robot accepted the console's commands and drove under them.
+  std::set<uint64_t> accepted;
+  uint64_t max_odom_x_mm = 0;
+  for (const auto& t : ReadTrace(dir_ + "/server.csv")) {
+    if (t.topic == "command") accepted.insert(t.sequence);
+    if (t.topic == "odom_x_mm") max_odom_x_mm = std::max(max_odom_x_mm, t.sequence);
+  }
+  EXPECT_GE(accepted.size(), 20u) << testing::ReadFile(dir_ + "/server.log");
+  EXPECT_GT(max_odom_x_mm, 300u);
+  int left = 0;
+  for (const auto& t : ReadTrace(dir_ + "/client.csv")) left += t.topic == "left" ? 1 : 0;
+  EXPECT_GE(left, 30) << "video after the join";
 }
 
 // The simulated robot before the closed glass door (deploy/scenes/glass_door.pbtxt): the laser

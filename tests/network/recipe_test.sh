@@ -118,7 +118,8 @@ relay
 cp "$share/config/server_sim_h264.pbtxt" "$etc/server.pbtxt"
 sed -i -e '/client_id: "\(operator\|operator-2\|observer\|relay\)"/d' \
   -e "s|^scene_file: .*|scene_file: \"$share/scenes/corridor.pbtxt\"|" "$etc/server.pbtxt"
-printf 'dds { profile: "%s" video_repair_period_ms: 250 }\n' "$pki_dir/robot.xml" >>"$etc/server.pbtxt"
+printf 'dds { profile: "%s" video_repair_period_ms: 250 video_repair_deadline_auto: true }\n' \
+  "$pki_dir/robot.xml" >>"$etc/server.pbtxt"
 out=$(ip netns exec "$(ns robot)" "$bin/robot_server" --check-config --config "$etc/server.pbtxt" 2>&1 || true)
 echo "$out" | grep -E "^PROBLEM" || true
 check "before the overlay, the robot's --check-config names only its overlay address" \
