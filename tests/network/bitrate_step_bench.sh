@@ -23,7 +23,9 @@
 # Environment: RATES ("8000 2000 8000"), PHASE_S (20), CODEC (jpeg or h264), LOSS (packet loss
 # probability each way, 0), REPAIR_DEADLINE_MS (h264: the robot's dds.video_repair_deadline_ms,
 # or "auto": dds.video_repair_deadline_auto; unset: the configuration's), RATE_TRACE=1 (the robot logs its rate control every 100 ms at
-# debug level), KEEP_WORK=1 keeps the traces and logs.
+# debug level), CAPTURE=1 (netem_relay records the uplink; then the uplink per phase by RTPS
+# stream: video, repairs, other data, discovery, control), KEEP_WORK=1 keeps the traces and
+# logs.
 # Needs root (network namespaces, TUN), xvfb-run and python3; exit 77 (skipped) without them.
 set -euo pipefail
 [ $# -eq 4 ] || {
@@ -68,7 +70,8 @@ total=$((lead_s + phase_s * ${#rates[@]}))
 domain=$((100 + RANDOM % 100))
 "$netem_relay" --netns-a "$rns" --netns-b "$ons" --delay-ms 50 --jitter-ms 5 --loss "${LOSS:-0}" \
   --rate-kbit "${rates[0]}" ${steps:+--rate-steps "$steps"} --duration-s $((total + 30)) \
-  --usage-csv "$work/usage.csv" > "$work/netem.log" 2>&1 &
+  --usage-csv "$work/usage.csv" ${CAPTURE:+--capture-a-to-b "$work/uplink.pcap"} \
+  > "$work/netem.log" 2>&1 &
 netem_pid=$!; pids+=("$netem_pid")
 for _ in $(seq 50); do grep -q ready "$work/netem.log" && break; sleep 0.1; done
 grep -q ready "$work/netem.log" || { cat "$work/netem.log" >&2; exit 1; }
@@ -156,3 +159,15 @@ EOF
 echo
 echo "pilot: $(grep -o -E '(video_frames|video_gaps|video_errors|keyframe_requests)=[0-9]+' "$work/client.log" | tail -4 | tr '\n' ' ')"
 echo "netem_relay: $(grep -o -E '(lost|queue_drops)=[0-9]+' "$work/netem.log" | tail -4 | tr '\n' ' ')"
+if [ -n "${CAPTURE:-}" ]; then
+  # What the uplink carried in each phase (from 2 s after its step), by RTPS stream.
+  echo
+  echo "uplink by stream, kbit/s (tests/network/rtps_usage.py):"
+  for ((i = 0; i < ${#rates[@]}; i++)); do
+    from=$((lead_s + i * phase_s + 2)); to=$((lead_s + (i + 1) * phase_s))
+    python3 "$src/tests/network/rtps_usage.py" --origin "$((start_ns / 1000000000)).$(printf '%09d' $((start_ns % 1000000000)))" \
+      --from-s "$from" --to-s "$to" --bin-s "$((to - from))" "$work/uplink.pcap" |
+      awk -v phase=$((i + 1)) -v rate="${rates[$i]}" -F, \
+        'NR == 1 { header = $0 } /^total/ { print "phase " phase " (" rate " kbit/s): " header; print "  " $0 } /^share/ { print "  " $0 }'
+  done
+fi

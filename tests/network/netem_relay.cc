@@ -9,6 +9,9 @@
 //      reordering packets.
 // --rate-steps "S:KBIT,..." changes the bottleneck rate S seconds after start (both directions),
 // for capacity-step experiments (a cellular hand-over).
+// --usage-csv writes the IP bytes delivered each second, each way; --capture-a-to-b and
+// --capture-b-to-a write the delivered packets' first 256 bytes as pcap files (what crossed the
+// bottleneck, without tcpdump; tests/network/rtps_usage.py breaks them down by RTPS stream).
 // SIGUSR1 toggles an outage (every packet dropped both ways) for link-loss experiments;
 // `ip link set DEV down` inside a namespace works as well. The program stops after
 // --duration-s seconds or on SIGINT/SIGTERM; the TUN devices disappear with it.
@@ -102,7 +105,41 @@ struct Counters {
   // IP bytes handed to the far end, per whole second since start (written by the forwarding
   // thread only, read after it ends).
   std::vector<uint64_t> bytes_by_second;
+  // With --capture-*: every packet handed to the far end, its first kCaptureBytes, as a pcap
+  // (LINKTYPE_RAW: IPv4 packets) stamped with the wall clock; written by the forwarding thread.
+  std::FILE* capture = nullptr;
 };
+
+constexpr uint32_t kCaptureBytes = 256;
+
+// A pcap file's global header (microsecond stamps, raw IP packets). False when not writable.
+bool StartCapture(const std::string& path, std::FILE** file) {
+  *file = std::fopen(path.c_str(), "wb");
+  if (*file == nullptr) return false;
+  const uint32_t magic = 0xa1b2c3d4, snaplen = kCaptureBytes, linktype = 101;
+  const uint16_t major = 2, minor = 4;
+  const int32_t zone = 0;
+  const uint32_t sigfigs = 0;
+  std::fwrite(&magic, 4, 1, *file);
+  std::fwrite(&major, 2, 1, *file);
+  std::fwrite(&minor, 2, 1, *file);
+  std::fwrite(&zone, 4, 1, *file);
+  std::fwrite(&sigfigs, 4, 1, *file);
+  std::fwrite(&snaplen, 4, 1, *file);
+  std::fwrite(&linktype, 4, 1, *file);
+  return true;
+}
+
+void CapturePacket(std::FILE* file, const std::vector<uint8_t>& packet) {
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(now).count();
+  const uint32_t header[4] = {static_cast<uint32_t>(us / 1'000'000),
+                              static_cast<uint32_t>(us % 1'000'000),
+                              static_cast<uint32_t>(std::min<size_t>(packet.size(), kCaptureBytes)),
+                              static_cast<uint32_t>(packet.size())};
+  std::fwrite(header, sizeof(header), 1, file);
+  std::fwrite(packet.data(), 1, header[2], file);
+}
 
 // Creates TUN device `name` inside namespace `netns` (entered by this thread for the call).
 int OpenTunIn(const std::string& netns, const std::string& name, std::string* error) {
@@ -164,6 +201,7 @@ void Forward(int in, int out, PathModel model, uint64_t seed, Counters* counters
           }
           counters->bytes_by_second[second] += pending.front().packet.size();
         }
+        if (counters->capture != nullptr) CapturePacket(counters->capture, pending.front().packet);
       }
       pending.pop_front();
     }
@@ -239,6 +277,11 @@ int Main(int argc, char** argv) {
   app.add_option("--duration-s", duration_s, "stop after this many seconds")
       ->check(CLI::Range(1.0, 3600.0));
   app.add_option("--seed", seed, "random seed");
+  std::string capture_a_to_b, capture_b_to_a;
+  app.add_option("--capture-a-to-b", capture_a_to_b,
+                 "write the packets delivered from the first namespace to the second to this "
+                 "pcap file (their first 256 bytes; tests/network/rtps_usage.py reads it)");
+  app.add_option("--capture-b-to-a", capture_b_to_a, "the same for the other direction");
   std::string usage_csv;
   app.add_option("--usage-csv", usage_csv,
                  "write 'second,a_to_b_kbit,b_to_a_kbit' (IP bytes delivered per second since "
@@ -266,6 +309,14 @@ int Main(int argc, char** argv) {
   signal(SIGTERM, OnStop);
   signal(SIGUSR1, OnToggleOutage);
   Counters a_to_b, b_to_a;
+  for (const auto& [path, counters] :
+       {std::pair<const std::string&, Counters*>{capture_a_to_b, &a_to_b},
+        std::pair<const std::string&, Counters*>{capture_b_to_a, &b_to_a}}) {
+    if (!path.empty() && !StartCapture(path, &counters->capture)) {
+      std::cerr << "netem_relay: cannot write " << path << ": " << std::strerror(errno) << "\n";
+      return 1;
+    }
+  }
   model.start = Clock::now();
   std::thread forward(Forward, fd_a, fd_b, model, seed, &a_to_b);
   std::thread backward(Forward, fd_b, fd_a, model, seed + 1, &b_to_a);
@@ -279,6 +330,9 @@ int Main(int argc, char** argv) {
   g_stop = true;
   forward.join();
   backward.join();
+  for (Counters* c : {&a_to_b, &b_to_a}) {
+    if (c->capture != nullptr) std::fclose(c->capture);
+  }
   close(fd_a);
   close(fd_b);
   for (const auto& [name, c] : {std::pair<const char*, Counters*>{"a_to_b", &a_to_b},
