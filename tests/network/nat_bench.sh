@@ -46,6 +46,7 @@
 # every observer subscribes to the
 # robot), SECURE (1: DDS Security on top of the overlay, made by make_pki.sh; 0: off),
 # PRE_S (4), POST_S (15), SPEED (0.2 m/s), FRESH_MS (200), VIDEO_HZ (15), VIDEO_QUALITY (60),
+# LOSS (0.01: packet loss probability on each public link, each way),
 # REPAIR_MS (250: the server's dds.video_repair_period_ms), REPAIR_DEADLINE (h264: milliseconds,
 # the server's dds.video_repair_deadline_ms, or "auto": dds.video_repair_deadline_auto; unset:
 # none), WINDOW (the server's default:
@@ -203,7 +204,7 @@ overlay_up() {
     conf=tcp.conf
   fi
   "$here/nat_topology.sh" up "$prefix" --netem "$netem_relay" --log-dir "$run" "${topology[@]}" \
-    >/dev/null || return 1
+    --loss "${LOSS:-0.01}" >/dev/null || return 1
   local observer_kind=--peer
   [ "$via" != relay ] || observer_kind=--observer
   "$src/deploy/wan/make_overlay.sh" "$run/overlay" --hub-endpoint 198.18.0.10:51820 \
